@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# README command 2: set up, build, and run the whole test suite.
+# GL tests use EGL surfaceless llvmpipe; the GLFW test runs under Xvfb.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+bash scripts/build.sh
+cd build
+if command -v xvfb-run >/dev/null && [[ -z "${DISPLAY:-}" ]]; then
+  xvfb-run -a -s "-screen 0 1280x1024x24" ctest --output-on-failure -j2
+else
+  ctest --output-on-failure -j2
+fi

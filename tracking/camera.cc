@@ -1,0 +1,163 @@
+#include "tracking/camera.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <opencv2/core.hpp>
+#include <opencv2/core/persistence.hpp>
+
+namespace ripple::tracking {
+
+bool Camera::HasDistortion() const {
+  for (double d : dist) {
+    if (d != 0.0) return true;
+  }
+  return false;
+}
+
+bool Camera::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (width <= 0 || height <= 0)
+    return fail("image_width/image_height must be positive");
+  if (!(std::isfinite(fx) && std::isfinite(fy) && fx > 0 && fy > 0))
+    return fail("camera_matrix: focal lengths must be positive and finite");
+  if (!(std::isfinite(cx) && std::isfinite(cy)))
+    return fail("camera_matrix: principal point must be finite");
+  for (double d : dist) {
+    if (!std::isfinite(d))
+      return fail("distortion_coefficients: values must be finite");
+  }
+  return true;
+}
+
+Eigen::Vector2d Camera::UndistortToNormalized(
+    const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector2d target((pixel.x() - cx) / fx, (pixel.y() - cy) / fy);
+  if (!HasDistortion()) return target;
+  // Newton iterations on the forward model with a numeric Jacobian; converges
+  // in a handful of steps for any lens OpenCV's model describes well.
+  Eigen::Vector2d p = target;
+  for (int it = 0; it < 20; ++it) {
+    auto f = [&](const Eigen::Vector2d& q) {
+      const Eigen::Vector2d px = DistortNormalized(q.x(), q.y());
+      return Eigen::Vector2d((px.x() - cx) / fx, (px.y() - cy) / fy);
+    };
+    const Eigen::Vector2d r = f(p) - target;
+    if (r.norm() < 1e-14) break;
+    const double h = 1e-7;
+    Eigen::Matrix2d j;
+    j.col(0) = (f(p + Eigen::Vector2d(h, 0)) - f(p)) / h;
+    j.col(1) = (f(p + Eigen::Vector2d(0, h)) - f(p)) / h;
+    p -= j.inverse() * r;
+  }
+  return p;
+}
+
+Camera Camera::Scaled(int new_width, int new_height) const {
+  Camera c = *this;
+  const double sx = double(new_width) / width, sy = double(new_height) / height;
+  c.width = new_width;
+  c.height = new_height;
+  c.fx *= sx;
+  c.fy *= sy;
+  // Pixel centres: the continuous image edge is at -0.5, so scale about it.
+  c.cx = (cx + 0.5) * sx - 0.5;
+  c.cy = (cy + 0.5) * sy - 0.5;
+  return c;
+}
+
+Camera MakeIdealCamera(int width, int height, double hfov_deg) {
+  Camera c;
+  c.width = width;
+  c.height = height;
+  c.fx = c.fy = 0.5 * width / std::tan(0.5 * hfov_deg * M_PI / 180.0);
+  c.cx = 0.5 * width - 0.5;
+  c.cy = 0.5 * height - 0.5;
+  return c;
+}
+
+std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
+  auto fail = [&](const std::string& what) -> std::optional<Camera> {
+    if (error) *error = "camera file '" + path + "': " + what;
+    return std::nullopt;
+  };
+  {
+    std::ifstream probe(path);
+    if (!probe) return fail("cannot open file");
+  }
+  Camera c;
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::READ);
+    if (!fs.isOpened()) return fail("not a readable YAML/XML file");
+    auto read_int = [&](const char* key, int* out) {
+      const cv::FileNode n = fs[key];
+      if (n.empty() || !(n.isInt() || n.isReal())) return false;
+      const double v = static_cast<double>(n);
+      if (v != std::floor(v)) return false;
+      *out = static_cast<int>(v);
+      return true;
+    };
+    if (!read_int("image_width", &c.width))
+      return fail("field 'image_width' missing or not an integer");
+    if (!read_int("image_height", &c.height))
+      return fail("field 'image_height' missing or not an integer");
+    cv::Mat k, d;
+    fs["camera_matrix"] >> k;
+    if (k.empty() || k.rows != 3 || k.cols != 3)
+      return fail("field 'camera_matrix' missing or not a 3x3 matrix");
+    k.convertTo(k, CV_64F);
+    c.fx = k.at<double>(0, 0);
+    c.fy = k.at<double>(1, 1);
+    c.cx = k.at<double>(0, 2);
+    c.cy = k.at<double>(1, 2);
+    if (k.at<double>(0, 1) != 0 || k.at<double>(1, 0) != 0 ||
+        k.at<double>(2, 0) != 0 || k.at<double>(2, 1) != 0 ||
+        k.at<double>(2, 2) != 1)
+      return fail("field 'camera_matrix' must be [fx 0 cx; 0 fy cy; 0 0 1]");
+    if (fs["distortion_coefficients"].empty())
+      return fail("field 'distortion_coefficients' missing");
+    fs["distortion_coefficients"] >> d;
+    d.convertTo(d, CV_64F);
+    const int n = static_cast<int>(d.total());
+    if (!(n == 0 || n == 4 || n == 5 || n == 8))
+      return fail("field 'distortion_coefficients' must have 4, 5 or 8 values"
+                  " (got " + std::to_string(n) + ")");
+    for (int i = 0; i < n; ++i) c.dist[i] = d.at<double>(i);
+  } catch (const cv::Exception& e) {
+    return fail(std::string("malformed YAML: ") + e.err);
+  }
+  std::string why;
+  if (!c.IsValid(&why)) return fail(why);
+  return c;
+}
+
+bool SaveCamera(const Camera& camera, const std::string& path,
+                std::string* error) {
+  try {
+    cv::FileStorage fs(path, cv::FileStorage::WRITE);
+    if (!fs.isOpened()) {
+      if (error) *error = "cannot write camera file '" + path + "'";
+      return false;
+    }
+    fs << "image_width" << camera.width;
+    fs << "image_height" << camera.height;
+    cv::Mat k = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0,
+                 camera.fy, camera.cy, 0, 0, 1);
+    fs << "camera_matrix" << k;
+    const bool rational =
+        camera.dist[5] != 0 || camera.dist[6] != 0 || camera.dist[7] != 0;
+    cv::Mat d(1, rational ? 8 : 5, CV_64F);
+    for (int i = 0; i < d.cols; ++i) d.at<double>(i) = camera.dist[i];
+    fs << "distortion_coefficients" << d;
+    fs.release();
+  } catch (const cv::Exception& e) {
+    if (error) *error = "cannot write camera file '" + path + "': " + e.err;
+    return false;
+  }
+  return true;
+}
+
+}  // namespace ripple::tracking

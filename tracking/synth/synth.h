@@ -1,0 +1,108 @@
+// Ground-truth frames: a CPU renderer of the tank board, the pen (cube with
+// tagged faces and its shaft) and a hand-like occluder through the full
+// camera model (lens distortion included), with area-correct edges, plus the
+// imaging effects of a real webcam and scripted motion. Used by `ripple
+// synth`, the tracking tests and benchmarks, and the demo.
+#ifndef RIPPLE_TRACKING_SYNTH_SYNTH_H_
+#define RIPPLE_TRACKING_SYNTH_SYNTH_H_
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "tracking/camera.h"
+#include "tracking/pose.h"
+#include "tracking/rig.h"
+
+namespace ripple::synth {
+
+using tracking::Pose;
+
+// A flat occluder standing in for a hand: a polygon (metres, in its own
+// plane z = 0) at a pose in the camera frame, drawn in front of everything.
+struct Occluder {
+  Pose cam_from_occluder;
+  std::vector<Eigen::Vector2d> outline_m;  // counter-clockwise polygon
+  cv::Vec3f bgr{0.45f, 0.55f, 0.75f};       // linear 0..1
+};
+
+// What is in front of the camera in one frame.
+struct SceneState {
+  Pose cam_from_tank;
+  std::optional<Pose> tank_from_pen;  // nullopt: no pen in the scene
+  std::vector<Occluder> occluders;
+};
+
+// Imaging applied after the exact geometric render, in this order:
+// exposure gain, defocus (Gaussian), linear motion blur, shot + read noise,
+// 8-bit quantisation, JPEG round trip.
+struct ImagingOptions {
+  double exposure = 1.0;           // multiplies the scene radiance
+  double defocus_sigma_px = 0.0;   // Gaussian PSF sigma, pixels
+  double motion_blur_px = 0.0;     // length of the linear blur, pixels
+  double motion_angle_rad = 0.0;   // direction of the blur
+  double read_noise_dn = 0.0;      // Gaussian sigma, 8-bit digital numbers
+  double shot_noise_gain = 0.0;    // DN per electron; 0 disables shot noise
+  int jpeg_quality = 0;            // 1..100 round trip; 0 disables
+};
+
+struct RenderedFrame {
+  cv::Mat image;                 // CV_8UC3, BGR, the camera's size
+  std::vector<int> tank_tags;    // ids whose whole black square is visible
+  std::vector<int> pen_tags;
+};
+
+// Renders scenes for one camera and rig. Thread-compatible.
+class SceneRenderer {
+ public:
+  SceneRenderer(const tracking::Camera& camera, const tracking::Rig& rig);
+  // Exact render (no imaging effects), linear BGR in [0, 1], CV_32FC3.
+  cv::Mat RenderLinear(const SceneState& scene) const;
+  // Full frame: exact render, imaging effects with noise drawn from `seed`.
+  RenderedFrame Render(const SceneState& scene, const ImagingOptions& imaging,
+                       uint64_t seed) const;
+  // Tag ids of the board and of the pen whose full black square is inside
+  // the image, facing the camera and unoccluded.
+  void VisibleTags(const SceneState& scene, std::vector<int>* tank_tags,
+                   std::vector<int>* pen_tags) const;
+
+ private:
+  struct Impl;
+  tracking::Camera camera_;
+  tracking::Rig rig_;
+};
+
+// Scripted motion and imaging: smooth segments of `segment_frames` frames
+// joined by cuts, the camera at `distance_m` from the board, the pen dipping
+// in and out of the water.
+struct SequenceOptions {
+  std::string preset = "benchmark";  // "benchmark", "clean" or "demo"
+  int frames = 100;
+  int segment_frames = 50;
+  double fps = 30.0;
+  uint64_t seed = 1;
+};
+
+struct FrameSpec {
+  int index = 0;
+  double time_s = 0;
+  SceneState scene;
+  ImagingOptions imaging;
+  uint64_t noise_seed = 0;
+};
+
+// Fills `frames`; false with `error` for an unknown preset or bad counts.
+bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
+                  const SequenceOptions& options, std::vector<FrameSpec>* frames,
+                  std::string* error);
+
+// Human-readable statement of a preset's distributions (printed by
+// `ripple synth --help-presets` and quoted in the README).
+std::string DescribePreset(const std::string& preset);
+
+}  // namespace ripple::synth
+
+#endif  // RIPPLE_TRACKING_SYNTH_SYNTH_H_

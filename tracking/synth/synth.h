@@ -7,6 +7,7 @@
 #define RIPPLE_TRACKING_SYNTH_SYNTH_H_
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,7 @@ class SceneRenderer {
   struct Impl;
   tracking::Camera camera_;
   tracking::Rig rig_;
+  std::shared_ptr<const Impl> impl_;
 };
 
 // Scripted motion and imaging: smooth segments of `segment_frames` frames

@@ -1,0 +1,41 @@
+// Video output through OpenCV's FFmpeg backend, with the codec chosen by the
+// file extension, and always finalized (the destructor releases the writer so
+// whatever was written stays playable).
+#ifndef RIPPLE_APP_APP_VIDEO_H_
+#define RIPPLE_APP_APP_VIDEO_H_
+
+#include <memory>
+#include <string>
+
+#include <opencv2/core.hpp>
+
+namespace cv {
+class VideoWriter;
+}
+
+namespace ripple::app {
+
+class VideoOut {
+ public:
+  VideoOut();
+  ~VideoOut();
+  VideoOut(const VideoOut&) = delete;
+  VideoOut& operator=(const VideoOut&) = delete;
+
+  // .mp4: H.264 (falls back to MPEG-4 part 2 if the FFmpeg build lacks an
+  // H.264 encoder, and says so); .mkv/.avi: lossless FFV1. False with `error`
+  // if the file can't be opened for writing.
+  bool Open(const std::string& path, double fps, cv::Size size, std::string* error);
+  bool Write(const cv::Mat& bgr);
+  void Close();
+  bool is_open() const;
+  const std::string& codec() const { return codec_; }
+
+ private:
+  std::unique_ptr<cv::VideoWriter> writer_;
+  std::string codec_;
+};
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_VIDEO_H_

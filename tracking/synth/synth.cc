@@ -1,0 +1,608 @@
+#include "tracking/synth/synth.h"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "tracking/synth/raster.h"
+#include "tracking/tag_family.h"
+
+namespace ripple::synth {
+namespace {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+// Reflectances (linear BGR) of the materials in the scene.
+const cv::Vec3f kPaper(0.88f, 0.88f, 0.86f);
+const cv::Vec3f kInk(0.05f, 0.05f, 0.05f);
+const cv::Vec3f kTable(0.22f, 0.33f, 0.45f);
+const cv::Vec3f kCube(0.80f, 0.80f, 0.78f);
+const cv::Vec3f kShaft(0.16f, 0.14f, 0.12f);
+// Light direction in the tank frame (from the surface toward the light).
+const Vector3d kLightInTank = Vector3d(0.3, 0.4, 1.0).normalized();
+
+// A rectangle of a planar layer's (x, y) plane with a colour.
+struct CellRect {
+  double x0, y0, x1, y1;
+};
+
+// A tag's cells in its own frame: a grid of `n` x `n` cells of size `cell`
+// starting at (origin, origin); black cells are marked.
+struct TagCells {
+  int id = -1;
+  int n = 0;
+  double cell = 0;
+  double origin = 0;
+  std::vector<uint8_t> black;
+};
+
+// What a planar layer paints in its own frame's z = 0 plane: a rectangle of
+// `base` colour (optionally over an infinite `outside` colour) and a tag's
+// black cells on top.
+struct PlanarLayer {
+  Pose cam_from_plane;
+  CellRect rect{0, 0, 0, 0};
+  bool infinite = false;        // paint `outside` everywhere else too
+  cv::Vec3f base, outside;
+  const TagCells* tag = nullptr;
+  // Illumination: a constant, or the board's soft spotlight when `board`.
+  float shade = 1.0f;
+  bool board = false;
+};
+
+float BoardShade(double x, double y) {
+  const double dx = x - 0.04, dy = y - 0.03;
+  return static_cast<float>(1.0 - 0.25 * std::min(1.0, (dx * dx + dy * dy) / 0.16));
+}
+
+std::vector<Vector2d> ConvexHull(std::vector<Vector2d> pts) {
+  std::sort(pts.begin(), pts.end(), [](const Vector2d& a, const Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  if (pts.size() < 3) return pts;
+  std::vector<Vector2d> hull(2 * pts.size());
+  auto cross = [](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
+    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
+  };
+  size_t k = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
+    hull[k++] = pts[i];
+  }
+  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
+    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
+    hull[k++] = pts[i - 1];
+  }
+  hull.resize(k - 1);
+  return hull;
+}
+
+bool PointInPolygon(const std::vector<Vector2d>& poly, const Vector2d& p) {
+  bool inside = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    if ((poly[i].y() > p.y()) != (poly[j].y() > p.y()) &&
+        p.x() < (poly[j].x() - poly[i].x()) * (p.y() - poly[i].y()) /
+                        (poly[j].y() - poly[i].y()) +
+                    poly[i].x())
+      inside = !inside;
+  }
+  return inside;
+}
+
+}  // namespace
+
+// Per-camera and per-rig precomputation shared by all frames.
+struct SceneRenderer::Impl {
+  int width = 0, height = 0;
+  // Undistorted normalised ray (x, y) through each pixel corner: corner
+  // (u, v) sits at pixel coordinates (u - 0.5, v - 0.5).
+  std::vector<Vector2d> corner_rays;
+  std::vector<TagCells> tank_tags;  // parallel to rig.tank_tags
+  std::vector<TagCells> pen_tags;   // parallel to rig.pen->faces
+  CellRect sheet{0, 0, 0, 0};       // the printed sheet in the tank plane
+};
+
+
+namespace {
+
+TagCells MakeTagCells(const tracking::TagFamily& family, int id,
+                      double edge_m) {
+  TagCells cells;
+  cells.id = id;
+  const auto bitmap = tracking::MakeTagBitmap(family, id);
+  if (!bitmap) return cells;  // the rig validated ids; keep an empty tag
+  cells.n = bitmap->total_width;
+  cells.cell = edge_m / bitmap->width_at_border;
+  cells.origin = -0.5 * cells.n * cells.cell;
+  cells.black.resize(size_t(cells.n) * cells.n);
+  for (int r = 0; r < cells.n; ++r)
+    for (int c = 0; c < cells.n; ++c) cells.black[r * cells.n + c] = bitmap->black(r, c);
+  return cells;
+}
+
+// Integral of a layer's colour over the pixel pre-image `quad` (plane
+// coordinates, area `area`): returns the covered fraction and adds the
+// colour contribution (already divided by `area`) to `*value`.
+float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
+                     double area, cv::Vec3f* value) {
+  const CellRect& r = layer.rect;
+  const double inside = QuadRectArea(quad, r.x0, r.y0, r.x1, r.y1);
+  double covered = inside;
+  cv::Vec3d sum = cv::Vec3d(layer.base) * inside;
+  if (layer.infinite) {
+    sum += cv::Vec3d(layer.outside) * (area - inside);
+    covered = area;
+  }
+  if (layer.tag && inside > 0 && layer.tag->n > 0) {
+    const TagCells& t = *layer.tag;
+    double qx0 = quad[0].x(), qx1 = qx0, qy0 = quad[0].y(), qy1 = qy0;
+    for (int i = 1; i < 4; ++i) {
+      qx0 = std::min(qx0, quad[i].x());
+      qx1 = std::max(qx1, quad[i].x());
+      qy0 = std::min(qy0, quad[i].y());
+      qy1 = std::max(qy1, quad[i].y());
+    }
+    const int c0 = std::max(0, int(std::floor((qx0 - t.origin) / t.cell)));
+    const int c1 = std::min(t.n - 1, int(std::floor((qx1 - t.origin) / t.cell)));
+    const int r0 = std::max(0, int(std::floor((qy0 - t.origin) / t.cell)));
+    const int r1 = std::min(t.n - 1, int(std::floor((qy1 - t.origin) / t.cell)));
+    const cv::Vec3d delta = cv::Vec3d(kInk) - cv::Vec3d(layer.base);
+    for (int row = r0; row <= r1; ++row) {
+      for (int col = c0; col <= c1; ++col) {
+        if (!t.black[row * t.n + col]) continue;
+        const double x0 = t.origin + col * t.cell, y0 = t.origin + row * t.cell;
+        const double a = QuadRectArea(quad, x0, y0, x0 + t.cell, y0 + t.cell);
+        sum += delta * a;
+      }
+    }
+  }
+  if (covered <= 0) return 0.0f;
+  *value = cv::Vec3f(sum * (1.0 / area));
+  return static_cast<float>(std::min(1.0, covered / area));
+}
+
+}  // namespace
+
+SceneRenderer::SceneRenderer(const tracking::Camera& camera,
+                             const tracking::Rig& rig)
+    : camera_(camera), rig_(rig) {
+  auto impl = std::make_shared<Impl>();
+  impl->width = camera.width;
+  impl->height = camera.height;
+  const int cw = camera.width + 1, ch = camera.height + 1;
+  impl->corner_rays.resize(size_t(cw) * ch);
+  cv::parallel_for_(cv::Range(0, ch), [&](const cv::Range& range) {
+    for (int v = range.start; v < range.end; ++v)
+      for (int u = 0; u < cw; ++u)
+        impl->corner_rays[size_t(v) * cw + u] =
+            camera.UndistortToNormalized(Vector2d(u - 0.5, v - 0.5));
+  });
+  const auto family = tracking::TagFamily::Create(rig.family);
+  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
+  for (const tracking::TagPlacement& t : rig.tank_tags) {
+    impl->tank_tags.push_back(family ? MakeTagCells(*family, t.id, t.edge_m)
+                                     : TagCells{});
+    for (int k = 0; k < 4; ++k) {
+      const Vector3d c = t.CornerInObject(k);
+      x0 = std::min(x0, c.x());
+      y0 = std::min(y0, c.y());
+      x1 = std::max(x1, c.x());
+      y1 = std::max(y1, c.y());
+    }
+  }
+  // The printed sheet: the tags' extent plus a 20 mm paper margin, and at
+  // least the tank.
+  x0 = std::min(x0, -0.5 * rig.tank.size_x_m) - 0.02;
+  x1 = std::max(x1, 0.5 * rig.tank.size_x_m) + 0.02;
+  y0 = std::min(y0, -0.5 * rig.tank.size_y_m) - 0.02;
+  y1 = std::max(y1, 0.5 * rig.tank.size_y_m) + 0.02;
+  impl->sheet = {x0, y0, x1, y1};
+  if (rig.pen) {
+    for (const tracking::TagPlacement& t : rig.pen->faces)
+      impl->pen_tags.push_back(family ? MakeTagCells(*family, t.id, t.edge_m)
+                                      : TagCells{});
+  }
+  impl_ = std::move(impl);
+}
+
+namespace {
+
+// Everything one frame draws, in paint order, with image-space polygons for
+// the non-planar parts.
+struct DrawItem {
+  enum class Kind { kPlanar, kPolygon } kind = Kind::kPlanar;
+  PlanarLayer layer;
+  std::vector<Vector2d> polygon_px;
+  cv::Vec3f polygon_bgr;
+  double depth = 0;  // for sorting the pen's parts
+};
+
+// Projects a polyline through the camera, densified so distorted edges stay
+// within ~0.05 px of the true curve. Returns false if a point is behind.
+bool ProjectOutline(const tracking::Camera& cam, const std::vector<Vector3d>& pts_in_cam,
+                    bool closed, std::vector<Vector2d>* out) {
+  out->clear();
+  const size_t n = pts_in_cam.size();
+  const size_t segs = closed ? n : n - 1;
+  for (size_t i = 0; i < segs; ++i) {
+    const Vector3d& a = pts_in_cam[i];
+    const Vector3d& b = pts_in_cam[(i + 1) % n];
+    const int steps = cam.HasDistortion() ? 16 : 1;
+    for (int s = 0; s < steps; ++s) {
+      const Vector3d p = a + (b - a) * (double(s) / steps);
+      if (p.z() <= 1e-4) return false;
+      out->push_back(cam.Project(p));
+    }
+  }
+  if (!closed) {
+    if (pts_in_cam.back().z() <= 1e-4) return false;
+    out->push_back(cam.Project(pts_in_cam.back()));
+  }
+  return true;
+}
+
+}  // namespace
+
+cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
+  const Impl& impl = *impl_;
+  const int W = impl.width, H = impl.height, CW = W + 1;
+  cv::Mat out(H, W, CV_32FC3, cv::Scalar::all(0));
+
+  std::vector<DrawItem> items;
+  // 1. The table and the printed sheet.
+  {
+    DrawItem it;
+    it.layer.cam_from_plane = scene.cam_from_tank;
+    it.layer.rect = impl.sheet;
+    it.layer.infinite = true;
+    it.layer.base = kPaper;
+    it.layer.outside = kTable;
+    it.layer.board = true;
+    items.push_back(it);
+  }
+  // 2. The board's tags.
+  for (size_t i = 0; i < rig_.tank_tags.size(); ++i) {
+    const tracking::TagPlacement& t = rig_.tank_tags[i];
+    const TagCells& cells = impl.tank_tags[i];
+    DrawItem it;
+    it.layer.cam_from_plane = scene.cam_from_tank * t.object_from_tag;
+    const double h = -cells.origin;
+    it.layer.rect = {-h, -h, h, h};
+    it.layer.base = kPaper;
+    it.layer.tag = &cells;
+    it.layer.board = true;
+    items.push_back(it);
+  }
+  // 3. The pen: shaft polygon and cube faces with their tags, painted far
+  // part first.
+  if (scene.tank_from_pen && rig_.pen) {
+    const tracking::PenSpec& pen = *rig_.pen;
+    const Pose cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
+    const Eigen::Matrix3d tank_r = scene.cam_from_tank.R();
+    const Vector3d light_in_cam = tank_r * kLightInTank;
+    std::vector<DrawItem> pen_items;
+    // Shaft: the convex hull of rings along the cylinder.
+    {
+      const Vector3d tip = pen.tip_in_pen;
+      const Vector3d axis = (-tip).normalized();  // tip -> cube
+      const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+      std::vector<Vector2d> pts;
+      bool ok = true;
+      const int rings = 12, around = 40;
+      for (int r = 0; r <= rings && ok; ++r) {
+        const Vector3d c = tip + axis * (pen.shaft_length_m * r / rings);
+        for (int k = 0; k < around; ++k) {
+          const double a = 2 * M_PI * k / around;
+          const Vector3d p = cam_from_pen *
+                             (c + pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
+          if (p.z() <= 1e-4) {
+            ok = false;
+            break;
+          }
+          pts.push_back(camera_.Project(p));
+        }
+      }
+      if (ok) {
+        DrawItem it;
+        it.kind = DrawItem::Kind::kPolygon;
+        it.polygon_px = ConvexHull(pts);
+        it.polygon_bgr = kShaft * 0.9f;
+        it.depth = (cam_from_pen * (tip + axis * 0.5 * pen.shaft_length_m)).norm();
+        pen_items.push_back(it);
+      }
+    }
+    // Cube faces (front-facing only; a convex body's faces never overlap).
+    const double e = pen.cube_edge_m;
+    static const Vector3d kNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    const double cube_depth = cam_from_pen.translation.norm();
+    for (const Vector3d& n : kNormals) {
+      // Face frame: z into the cube (like a tag), x and y spanning the face.
+      const Vector3d z = -n;
+      const Vector3d x = z.unitOrthogonal();
+      const Vector3d y = z.cross(x);
+      Eigen::Matrix3d r;
+      r << x, y, z;
+      const Pose pen_from_face = Pose::FromMatrix(r, n * (0.5 * e));
+      const Pose cam_from_face = cam_from_pen * pen_from_face;
+      const Vector3d normal_in_cam = cam_from_pen.R() * n;
+      if (normal_in_cam.dot(cam_from_face.translation) >= 0) continue;
+      DrawItem it;
+      it.layer.cam_from_plane = cam_from_face;
+      it.layer.rect = {-0.5 * e, -0.5 * e, 0.5 * e, 0.5 * e};
+      it.layer.base = kCube;
+      it.layer.shade = static_cast<float>(0.55 + 0.45 * std::max(0.0, normal_in_cam.dot(light_in_cam)));
+      it.depth = cube_depth;
+      pen_items.push_back(it);
+      // Tags glued on this face.
+      for (size_t i = 0; i < pen.faces.size(); ++i) {
+        const tracking::TagPlacement& t = pen.faces[i];
+        const Vector3d tag_z = t.object_from_tag.R().col(2);
+        if (tag_z.dot(z) < 0.9) continue;
+        DrawItem tag_item;
+        tag_item.layer.cam_from_plane = cam_from_pen * t.object_from_tag;
+        const double h = -impl.pen_tags[i].origin;
+        tag_item.layer.rect = {-h, -h, h, h};
+        tag_item.layer.base = kPaper;
+        tag_item.layer.tag = &impl.pen_tags[i];
+        tag_item.layer.shade = it.layer.shade;
+        tag_item.depth = cube_depth;
+        pen_items.push_back(tag_item);
+      }
+    }
+    std::stable_sort(pen_items.begin(), pen_items.end(),
+                     [](const DrawItem& a, const DrawItem& b) { return a.depth > b.depth; });
+    items.insert(items.end(), pen_items.begin(), pen_items.end());
+  }
+  // 4. Occluders in front of everything.
+  for (const Occluder& o : scene.occluders) {
+    std::vector<Vector3d> pts;
+    for (const Vector2d& p : o.outline_m)
+      pts.push_back(o.cam_from_occluder * Vector3d(p.x(), p.y(), 0));
+    DrawItem it;
+    it.kind = DrawItem::Kind::kPolygon;
+    if (!ProjectOutline(camera_, pts, true, &it.polygon_px)) continue;
+    it.polygon_bgr = o.bgr;
+    items.push_back(it);
+  }
+
+  // Paint.
+  std::vector<Vector2d> plane_pts(impl.corner_rays.size());
+  std::vector<uint8_t> valid(impl.corner_rays.size());
+  for (const DrawItem& it : items) {
+    if (it.kind == DrawItem::Kind::kPolygon) {
+      cv::Mat cov;
+      cv::Rect roi;
+      if (!RasterizePolygon(it.polygon_px, W, H, &cov, &roi)) continue;
+      for (int y = 0; y < roi.height; ++y) {
+        cv::Vec3f* row = out.ptr<cv::Vec3f>(roi.y + y) + roi.x;
+        const float* c = cov.ptr<float>(y);
+        for (int x = 0; x < roi.width; ++x)
+          row[x] = row[x] * (1.0f - c[x]) + it.polygon_bgr * c[x];
+      }
+      continue;
+    }
+    const PlanarLayer& layer = it.layer;
+    // Image region: the projected rectangle (densified for distortion) plus
+    // a margin, or the whole image for the infinite board layer.
+    cv::Rect region(0, 0, W, H);
+    if (!layer.infinite) {
+      std::vector<Vector3d> outline = {
+          layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y0, 0),
+          layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y0, 0),
+          layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y1, 0),
+          layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y1, 0)};
+      std::vector<Vector2d> px;
+      if (ProjectOutline(camera_, outline, true, &px)) {
+        double minx = 1e9, miny = 1e9, maxx = -1e9, maxy = -1e9;
+        for (const Vector2d& p : px) {
+          minx = std::min(minx, p.x());
+          maxx = std::max(maxx, p.x());
+          miny = std::min(miny, p.y());
+          maxy = std::max(maxy, p.y());
+        }
+        const int x0 = std::max(0, int(std::floor(minx)) - 2);
+        const int y0 = std::max(0, int(std::floor(miny)) - 2);
+        const int x1 = std::min(W, int(std::ceil(maxx)) + 3);
+        const int y1 = std::min(H, int(std::ceil(maxy)) + 3);
+        if (x1 <= x0 || y1 <= y0) continue;
+        region = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+      }
+    }
+    const Eigen::Matrix3d R = layer.cam_from_plane.R();
+    const Vector3d t = layer.cam_from_plane.translation;
+    const Vector3d n = R.col(2);
+    const double nt = n.dot(t);
+    const Eigen::Matrix3d Rt = R.transpose();
+    const Pose tank_from_plane = scene.cam_from_tank.Inverse() * layer.cam_from_plane;
+    cv::parallel_for_(cv::Range(region.y, region.br().y + 1), [&](const cv::Range& rows) {
+      for (int v = rows.start; v < rows.end; ++v) {
+        for (int u = region.x; u <= region.br().x; ++u) {
+          const size_t k = size_t(v) * CW + u;
+          const Vector3d ray(impl.corner_rays[k].x(), impl.corner_rays[k].y(), 1.0);
+          const double denom = n.dot(ray);
+          const double s = std::abs(denom) > 1e-12 ? nt / denom : -1.0;
+          valid[k] = s > 0;
+          if (s > 0) {
+            const Vector3d q = Rt * (s * ray - t);
+            plane_pts[k] = q.head<2>();
+          }
+        }
+      }
+    });
+    cv::parallel_for_(cv::Range(region.y, region.br().y), [&](const cv::Range& rows) {
+      for (int v = rows.start; v < rows.end; ++v) {
+        cv::Vec3f* row = out.ptr<cv::Vec3f>(v);
+        for (int u = region.x; u < region.br().x; ++u) {
+          const size_t k00 = size_t(v) * CW + u, k10 = k00 + 1, k01 = k00 + CW, k11 = k01 + 1;
+          if (!(valid[k00] && valid[k10] && valid[k01] && valid[k11])) continue;
+          const Vector2d quad[4] = {plane_pts[k00], plane_pts[k10], plane_pts[k11],
+                                    plane_pts[k01]};
+          const double area = 0.5 * std::abs((quad[2] - quad[0]).x() * (quad[3] - quad[1]).y() -
+                                             (quad[2] - quad[0]).y() * (quad[3] - quad[1]).x());
+          if (!(area > 0)) continue;
+          cv::Vec3f value;
+          const float alpha = IntegrateLayer(layer, quad, area, &value);
+          if (alpha <= 0) continue;
+          float shade = layer.shade;
+          if (layer.board) {
+            const Vector2d c = 0.25 * (quad[0] + quad[1] + quad[2] + quad[3]);
+            // Board tags live in their own frames; shade by the tank frame.
+            const Vector3d in_tank = tank_from_plane * Vector3d(c.x(), c.y(), 0);
+            shade = BoardShade(in_tank.x(), in_tank.y());
+          }
+          row[u] = row[u] * (1.0f - alpha) + value * shade;
+        }
+      }
+    });
+  }
+  return out;
+}
+
+void SceneRenderer::VisibleTags(const SceneState& scene, std::vector<int>* tank_tags,
+                                std::vector<int>* pen_tags) const {
+  tank_tags->clear();
+  pen_tags->clear();
+  const int W = camera_.width, H = camera_.height;
+  // Occluding outlines in the image, each with the depth it sits at.
+  struct Blocker {
+    std::vector<Vector2d> poly;
+    bool is_pen_shaft = false;
+    bool is_cube = false;
+    bool is_occluder = false;
+  };
+  std::vector<Blocker> blockers;
+  std::optional<Pose> cam_from_pen;
+  if (scene.tank_from_pen && rig_.pen) {
+    cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
+    const tracking::PenSpec& pen = *rig_.pen;
+    const Vector3d tip = pen.tip_in_pen, axis = (-tip).normalized();
+    const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+    std::vector<Vector2d> pts;
+    bool ok = true;
+    for (int r = 0; r <= 12 && ok; ++r)
+      for (int k = 0; k < 24 && ok; ++k) {
+        const double a = 2 * M_PI * k / 24;
+        const Vector3d p = *cam_from_pen * (tip + axis * (pen.shaft_length_m * r / 12) +
+                                            pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
+        ok = p.z() > 1e-4;
+        if (ok) pts.push_back(camera_.Project(p));
+      }
+    if (ok) blockers.push_back({ConvexHull(pts), true, false, false});
+    pts.clear();
+    ok = true;
+    const double h = 0.5 * pen.cube_edge_m;
+    for (int i = 0; i < 8 && ok; ++i) {
+      const Vector3d p = *cam_from_pen * Vector3d(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
+      ok = p.z() > 1e-4;
+      if (ok) pts.push_back(camera_.Project(p));
+    }
+    if (ok) blockers.push_back({ConvexHull(pts), false, true, false});
+  }
+  for (const Occluder& o : scene.occluders) {
+    std::vector<Vector3d> pts;
+    for (const Vector2d& p : o.outline_m)
+      pts.push_back(o.cam_from_occluder * Vector3d(p.x(), p.y(), 0));
+    Blocker b;
+    b.is_occluder = true;
+    if (ProjectOutline(camera_, pts, true, &b.poly)) blockers.push_back(b);
+  }
+  // A tag counts when a 9x9 grid over its black square is in the image,
+  // seen from the front at under ~84 degrees, and not hidden.
+  auto visible = [&](const Pose& cam_from_tag, double edge, bool on_pen) {
+    const Vector3d z = cam_from_tag.R().col(2);
+    const Vector3d centre = cam_from_tag.translation;
+    if (z.dot(centre.normalized()) < 0.1) return false;
+    for (int i = 0; i <= 8; ++i) {
+      for (int j = 0; j <= 8; ++j) {
+        const Vector3d p = cam_from_tag * Vector3d(edge * (i / 8.0 - 0.5), edge * (j / 8.0 - 0.5), 0);
+        if (p.z() <= 1e-4) return false;
+        const Vector2d px = camera_.Project(p);
+        if (!(px.x() >= 0 && px.y() >= 0 && px.x() <= W - 1 && px.y() <= H - 1)) return false;
+        for (const Blocker& b : blockers) {
+          if (on_pen && b.is_cube) continue;  // its own faces never overlap
+          if (on_pen && b.is_pen_shaft) {
+            // The shaft hides a face only when it is nearer than the cube.
+            const Vector3d tip_in_cam = *cam_from_pen * rig_.pen->tip_in_pen;
+            if (tip_in_cam.norm() > cam_from_pen->translation.norm()) continue;
+          }
+          if (PointInPolygon(b.poly, px)) return false;
+        }
+      }
+    }
+    return true;
+  };
+  for (const tracking::TagPlacement& t : rig_.tank_tags)
+    if (visible(scene.cam_from_tank * t.object_from_tag, t.edge_m, false))
+      tank_tags->push_back(t.id);
+  if (cam_from_pen) {
+    for (const tracking::TagPlacement& t : rig_.pen->faces)
+      if (visible(*cam_from_pen * t.object_from_tag, t.edge_m, true))
+        pen_tags->push_back(t.id);
+  }
+}
+
+namespace {
+
+cv::Mat MotionBlurKernel(double length_px, double angle_rad) {
+  const int size = 2 * int(std::ceil(0.5 * length_px)) + 3;
+  cv::Mat k(size, size, CV_32F, cv::Scalar(0));
+  const double c = 0.5 * (size - 1);
+  const int samples = 64;
+  for (int i = 0; i < samples; ++i) {
+    const double s = length_px * ((i + 0.5) / samples - 0.5);
+    const double x = c + s * std::cos(angle_rad), y = c + s * std::sin(angle_rad);
+    const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
+    const double fx = x - x0, fy = y - y0;
+    k.at<float>(y0, x0) += float((1 - fx) * (1 - fy));
+    k.at<float>(y0, x0 + 1) += float(fx * (1 - fy));
+    k.at<float>(y0 + 1, x0) += float((1 - fx) * fy);
+    k.at<float>(y0 + 1, x0 + 1) += float(fx * fy);
+  }
+  return k / cv::sum(k)[0];
+}
+
+}  // namespace
+
+RenderedFrame SceneRenderer::Render(const SceneState& scene, const ImagingOptions& imaging,
+                                    uint64_t seed) const {
+  cv::Mat img = RenderLinear(scene);
+  if (imaging.exposure != 1.0) img *= imaging.exposure;
+  if (imaging.defocus_sigma_px > 0)
+    cv::GaussianBlur(img, img, cv::Size(0, 0), imaging.defocus_sigma_px, 0, cv::BORDER_REPLICATE);
+  if (imaging.motion_blur_px > 0.05)
+    cv::filter2D(img, img, -1, MotionBlurKernel(imaging.motion_blur_px, imaging.motion_angle_rad),
+                 cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+  img *= 255.0;
+  cv::RNG rng(seed ? seed : 0x9e3779b97f4a7c15ULL);
+  if (imaging.shot_noise_gain > 0) {
+    // Poisson shot noise, Gaussian approximation: variance = gain * signal.
+    cv::Mat sigma;
+    cv::max(img * imaging.shot_noise_gain, 0.0, sigma);
+    cv::sqrt(sigma, sigma);
+    cv::Mat n(img.size(), img.type());
+    rng.fill(n, cv::RNG::NORMAL, 0.0, 1.0);
+    img += n.mul(sigma);
+  }
+  if (imaging.read_noise_dn > 0) {
+    cv::Mat n(img.size(), img.type());
+    rng.fill(n, cv::RNG::NORMAL, 0.0, imaging.read_noise_dn);
+    img += n;
+  }
+  RenderedFrame frame;
+  img.convertTo(frame.image, CV_8UC3);  // rounds and saturates
+  if (imaging.jpeg_quality > 0) {
+    std::vector<uchar> buf;
+    cv::imencode(".jpg", frame.image, buf, {cv::IMWRITE_JPEG_QUALITY, imaging.jpeg_quality});
+    frame.image = cv::imdecode(buf, cv::IMREAD_COLOR);
+  }
+  VisibleTags(scene, &frame.tank_tags, &frame.pen_tags);
+  return frame;
+}
+
+}  // namespace ripple::synth

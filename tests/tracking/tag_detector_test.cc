@@ -1,0 +1,176 @@
+#include "tracking/tag_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "tests/tracking/tag_scene.h"
+#include "tracking/tag_family.h"
+
+namespace ripple::tracking {
+namespace {
+
+using testing::PlacedTag;
+using testing::RenderTags;
+
+Camera TestCamera() { return MakeIdealCamera(640, 480, 60.0); }
+
+// A tag at `distance` metres, tilted by (ax, ay) radians, centred at (x, y).
+Pose TagPose(double x, double y, double distance, double ax, double ay,
+             double az) {
+  const Eigen::Quaterniond q = Eigen::AngleAxisd(az, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(ax, Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(ay, Eigen::Vector3d::UnitY());
+  return Pose(q, Eigen::Vector3d(x, y, distance));
+}
+
+std::array<Eigen::Vector2d, 4> TrueCorners(const Camera& camera,
+                                           const PlacedTag& tag) {
+  TagPlacement p;
+  p.id = tag.id;
+  p.edge_m = tag.edge_m;
+  return testing::ProjectCorners(camera, p, tag.cam_from_tag);
+}
+
+TEST(TagDetectorTest, FindsIdsWithCornersInTagImageOrder) {
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  // Rotated 30 degrees in the image plane: the order must follow the tag,
+  // not the image axes.
+  const std::vector<PlacedTag> tags = {
+      {3, 0.04, TagPose(-0.05, 0.0, 0.35, 0.3, 0.2, 0.5)},
+      {7, 0.04, TagPose(0.06, 0.02, 0.4, -0.2, 0.4, 2.0)}};
+  const cv::Mat image = RenderTags(camera, *family, tags);
+  TagDetector detector(TagDetectorOptions{});
+  const std::vector<TagDetection> found = detector.Detect(image);
+  ASSERT_EQ(found.size(), 2u);
+  for (const TagDetection& d : found) {
+    const PlacedTag& tag = d.id == 3 ? tags[0] : tags[1];
+    ASSERT_TRUE(d.id == 3 || d.id == 7);
+    const auto truth = TrueCorners(camera, tag);
+    for (int k = 0; k < 4; ++k)
+      EXPECT_LT((d.corners[k] - truth[k]).norm(), 0.3) << "corner " << k;
+    EXPECT_GT(d.decision_margin, 50);
+  }
+}
+
+TEST(TagDetectorTest, CorrectCornersShiftsEdgesOutward) {
+  const std::array<Eigen::Vector2d, 4> square = {
+      Eigen::Vector2d(10.5, 10.5), Eigen::Vector2d(30.5, 10.5),
+      Eigen::Vector2d(30.5, 30.5), Eigen::Vector2d(10.5, 30.5)};
+  const auto out = CorrectCorners(square, 0.5, 0.25);
+  EXPECT_NEAR(out[0].x(), 9.75, 1e-12);
+  EXPECT_NEAR(out[0].y(), 9.75, 1e-12);
+  EXPECT_NEAR(out[2].x(), 30.25, 1e-12);
+  EXPECT_NEAR(out[2].y(), 30.25, 1e-12);
+}
+
+TEST(TagDetectorTest, RoiSearchMatchesFullSearch) {
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  const std::vector<PlacedTag> tags = {
+      {1, 0.03, TagPose(-0.06, -0.03, 0.4, 0.2, 0.1, 0.1)},
+      {2, 0.03, TagPose(0.07, 0.04, 0.45, -0.1, 0.3, -0.2)}};
+  const cv::Mat image = RenderTags(camera, *family, tags);
+  TagDetector detector(TagDetectorOptions{});
+  const auto full = detector.Detect(image);
+  ASSERT_EQ(full.size(), 2u);
+  std::vector<cv::Rect> rois;
+  for (const TagDetection& d : full) {
+    cv::Rect r(int(d.corners[0].x()), int(d.corners[0].y()), 1, 1);
+    for (const auto& c : d.corners) r |= cv::Rect(int(c.x()), int(c.y()), 1, 1);
+    rois.push_back(r + cv::Size(40, 40) - cv::Point(20, 20));
+  }
+  const auto roi = detector.Detect(image, rois);
+  ASSERT_EQ(roi.size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(roi[i].id, full[i].id);
+    for (int k = 0; k < 4; ++k)
+      EXPECT_LT((roi[i].corners[k] - full[i].corners[k]).norm(), 0.15);
+  }
+  // A region that holds no tag finds nothing.
+  EXPECT_TRUE(detector.Detect(image, {cv::Rect(0, 0, 60, 60)}).empty());
+}
+
+struct BiasStats {
+  Eigen::Vector2d mean_xy = Eigen::Vector2d::Zero();
+  double mean_outward = 0;  // along the corner's outward diagonal
+  double rms = 0;
+  int n = 0;
+};
+
+// Corner errors over randomly posed tags rendered exactly.
+BiasStats MeasureBias(const TagDetectorOptions& options, int num_images,
+                      uint32_t seed) {
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1, 1);
+  TagDetector detector(options);
+  BiasStats s;
+  double sum_sq = 0;
+  for (int i = 0; i < num_images; ++i) {
+    std::vector<PlacedTag> tags;
+    for (int j = 0; j < 4; ++j) {
+      const double x = (j % 2 ? 0.065 : -0.065) + 0.01 * u(rng);
+      const double y = (j / 2 ? 0.045 : -0.045) + 0.01 * u(rng);
+      tags.push_back({j + 4 * (i % 5), 0.035,
+                      TagPose(x, y, 0.35 + 0.1 * u(rng), 0.6 * u(rng),
+                              0.6 * u(rng), M_PI * u(rng))});
+    }
+    const cv::Mat image = RenderTags(camera, *family, tags);
+    for (const TagDetection& d : detector.Detect(image)) {
+      const PlacedTag* tag = nullptr;
+      for (const PlacedTag& t : tags)
+        if (t.id == d.id) tag = &t;
+      if (!tag) continue;
+      const auto truth = TrueCorners(camera, *tag);
+      Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+      for (const auto& c : truth) centre += 0.25 * c;
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector2d e = d.corners[k] - truth[k];
+        s.mean_xy += e;
+        s.mean_outward += e.dot((truth[k] - centre).normalized());
+        sum_sq += e.squaredNorm();
+        ++s.n;
+      }
+    }
+  }
+  s.mean_xy /= s.n;
+  s.mean_outward /= s.n;
+  s.rms = std::sqrt(sum_sq / s.n);
+  return s;
+}
+
+TEST(TagDetectorTest, RawCornersAreOffsetByHalfAPixel) {
+  TagDetectorOptions raw;
+  raw.pixel_offset_px = 0.0;
+  raw.edge_outward_px = 0.0;
+  const BiasStats s = MeasureBias(raw, 10, 7);
+  std::printf("raw: mean (%.3f, %.3f) px, outward %.3f px, rms %.3f px, n %d\n",
+              s.mean_xy.x(), s.mean_xy.y(), s.mean_outward, s.rms, s.n);
+  EXPECT_NEAR(s.mean_xy.x(), 0.5, 0.1);
+  EXPECT_NEAR(s.mean_xy.y(), 0.5, 0.1);
+}
+
+TEST(TagDetectorTest, CorrectedCornersHaveNoMeasurableBias) {
+  for (double decimate : {1.0, 2.0}) {
+    TagDetectorOptions options;
+    options.quad_decimate = decimate;
+    const BiasStats s = MeasureBias(options, 10, 11);
+    std::printf(
+        "decimate %.0f: mean (%.3f, %.3f) px, outward %.3f px, rms %.3f px, "
+        "n %d\n",
+        decimate, s.mean_xy.x(), s.mean_xy.y(), s.mean_outward, s.rms, s.n);
+    EXPECT_GT(s.n, 100);
+    EXPECT_LE(std::abs(s.mean_xy.x()), 0.05);
+    EXPECT_LE(std::abs(s.mean_xy.y()), 0.05);
+    EXPECT_LE(std::abs(s.mean_outward), 0.05);
+    EXPECT_LT(s.rms, 0.25);
+  }
+}
+
+}  // namespace
+}  // namespace ripple::tracking

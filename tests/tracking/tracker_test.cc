@@ -1,0 +1,354 @@
+#include "tracking/tracker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "tests/tracking/tag_scene.h"
+#include "tracking/pose_filter.h"
+#include "tracking/tag_family.h"
+
+namespace ripple::tracking {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+constexpr double kFps = 30.0;
+
+Rig DefaultRig() {
+  std::string error;
+  auto rig =
+      LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
+  EXPECT_TRUE(rig) << error;
+  return *rig;
+}
+
+Pose BoardView(double yaw = 0.0) {
+  const Eigen::Vector3d eye(0.3 * std::sin(yaw), -0.3 * std::cos(yaw), 0.35);
+  return LookAt(eye, Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 0, 1))
+      .Inverse();
+}
+
+Pose TankFromPen(double t) {
+  return Pose(Eigen::Quaterniond(Eigen::AngleAxisd(
+                  0.4 + 0.1 * t, Eigen::Vector3d(1, 1, 0).normalized())),
+              Eigen::Vector3d(0.02 * std::cos(t), 0.01, 0.15));
+}
+
+std::vector<TagDetection> Concat(std::vector<TagDetection> a,
+                                 const std::vector<TagDetection>& b) {
+  a.insert(a.end(), b.begin(), b.end());
+  return a;
+}
+
+TEST(TrackerTest, TracksBothObjectsAndTheTip) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  Tracker tracker(camera, rig, TrackerOptions{});
+  std::mt19937 rng(1);
+  for (int f = 0; f < 20; ++f) {
+    const double t = f / kFps;
+    const Pose cam_from_tank = BoardView(0.01 * f);
+    const Pose tank_from_pen = TankFromPen(t);
+    const Pose cam_from_pen = cam_from_tank * tank_from_pen;
+    const auto dets =
+        Concat(testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank,
+                                          0.1, &rng),
+               testing::ProjectDetections(camera, rig.pen->faces, cam_from_pen,
+                                          0.1, &rng));
+    const FrameResult r = tracker.TrackDetections(dets, t);
+    EXPECT_EQ(r.frame, f);
+    ASSERT_EQ(r.tank.status, TrackStatus::kTracked);
+    ASSERT_EQ(r.pen.status, TrackStatus::kTracked);
+    EXPECT_EQ(r.tank.reinitialized, f == 0);
+    EXPECT_LT(RotationDistance(*r.tank.cam_from_object, cam_from_tank),
+              0.1 * kDeg);
+    ASSERT_TRUE(r.tip_in_tank);
+    const Eigen::Vector3d tip = tank_from_pen * rig.pen->tip_in_pen;
+    EXPECT_LT((*r.tip_in_tank - tip).norm(), 0.001) << "frame " << f;
+    EXPECT_GE(r.pen.tags.size(), 2u);
+    const auto rows = tracker.ToPoseRows(r);
+    ASSERT_EQ(rows.size(), 2u);
+    EXPECT_EQ(rows[0].object, "tank");
+    EXPECT_TRUE(rows[1].tip_in_tank);
+  }
+}
+
+TEST(TrackerTest, BestFaceModesUseOneFace) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  for (FaceSelection selection :
+       {FaceSelection::kLeastUncertain, FaceSelection::kMostFrontal}) {
+    TrackerOptions options;
+    options.pen_mode = PenMode::kBestFace;
+    options.face_selection = selection;
+    Tracker tracker(camera, rig, options);
+    std::mt19937 rng(2);
+    const Pose cam_from_tank = BoardView();
+    const Pose cam_from_pen = cam_from_tank * TankFromPen(0);
+    const auto dets =
+        Concat(testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank,
+                                          0.0, &rng),
+               testing::ProjectDetections(camera, rig.pen->faces, cam_from_pen,
+                                          0.0, &rng));
+    const FrameResult r = tracker.TrackDetections(dets, 0.0);
+    ASSERT_EQ(r.pen.status, TrackStatus::kTracked);
+    EXPECT_EQ(r.pen.tags.size(), 1u);
+    EXPECT_LT(TranslationDistance(*r.pen.cam_from_object, cam_from_pen), 1e-6);
+  }
+}
+
+// A lone face seen almost frontally from afar has two poses that explain
+// its corners nearly equally well. Feeding the corners of the wrong branch
+// must not flip the reported pose.
+TEST(TrackerTest, RejectsAFlipToTheOtherBranch) {
+  Rig rig = DefaultRig();
+  rig.pen->faces.resize(1);  // the +z face only
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  TrackerOptions options;
+  Tracker tracker(camera, rig, options);
+  std::mt19937 rng(3);
+  // Face +z looking at the camera, tilted by 12 degrees, 0.6 m away.
+  const Pose cam_from_face(Eigen::Quaterniond(Eigen::AngleAxisd(
+                               12 * kDeg, Eigen::Vector3d::UnitX())),
+                           Eigen::Vector3d(0.01, 0.0, 0.6));
+  const Pose cam_from_pen =
+      cam_from_face * rig.pen->faces[0].object_from_tag.Inverse();
+  const auto exact =
+      testing::ProjectDetections(camera, rig.pen->faces, cam_from_pen, 0, &rng);
+  const auto obs = MatchObservations(camera, rig.pen->faces, exact);
+  ASSERT_EQ(obs.size(), 1u);
+  Pose flipped_pen;
+  bool found = false;
+  for (const Pose& cam_from_tag : IppeSquare(obs[0], obs[0].edge_m)) {
+    const Pose candidate = cam_from_tag * obs[0].object_from_tag.Inverse();
+    if (RotationDistance(candidate, cam_from_pen) > 10 * kDeg) {
+      flipped_pen = candidate;
+      found = true;
+    }
+  }
+  ASSERT_TRUE(found);
+  for (int f = 0; f < 12; ++f) {
+    const Pose shown = f == 8 ? flipped_pen : cam_from_pen;
+    const auto dets =
+        Concat(testing::ProjectDetections(camera, rig.tank_tags, BoardView(),
+                                          0.05, &rng),
+               testing::ProjectDetections(camera, rig.pen->faces, shown,
+                                          f == 8 ? 0.0 : 0.05, &rng));
+    const FrameResult r = tracker.TrackDetections(dets, f / kFps);
+    ASSERT_TRUE(r.pen.has_pose()) << "frame " << f;
+    EXPECT_LT(RotationDistance(*r.pen.cam_from_object, cam_from_pen), 5 * kDeg)
+        << "frame " << f;
+    EXPECT_FALSE(r.cut);
+    if (f == 8) {
+      EXPECT_TRUE(r.pen.flip_rejected);
+    }
+  }
+}
+
+TEST(TrackerTest, ReinitialisesOnACut) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  TrackerOptions options;
+  options.smoothing.enabled = true;
+  Tracker tracker(camera, rig, options);
+  std::mt19937 rng(4);
+  const Pose before = BoardView(0.0);
+  // After the cut the camera looks from the other side, 80 degrees away.
+  const Pose after = BoardView(80 * kDeg);
+  for (int f = 0; f < 16; ++f) {
+    const Pose truth = f < 10 ? before : after;
+    const FrameResult r = tracker.TrackDetections(
+        testing::ProjectDetections(camera, rig.tank_tags, truth, 0.1, &rng),
+        f / kFps);
+    ASSERT_EQ(r.tank.status, TrackStatus::kTracked);
+    EXPECT_EQ(r.cut, f == 10) << "frame " << f;
+    EXPECT_EQ(r.tank.reinitialized, f == 0 || f == 10);
+    EXPECT_FALSE(r.tank.flip_rejected);
+    // No smoothing across the cut: the new pose is reported at once.
+    EXPECT_LT(RotationDistance(*r.tank.cam_from_object, truth), 0.2 * kDeg)
+        << "frame " << f;
+  }
+}
+
+TEST(TrackerTest, FollowsAFastGenuineRotation) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  Tracker tracker(camera, rig, TrackerOptions{});
+  std::mt19937 rng(5);
+  const Pose cam_from_tank = BoardView();
+  for (int f = 0; f < 8; ++f) {
+    // The pen spins 15 degrees per frame about its axis.
+    const Pose tank_from_pen =
+        TankFromPen(0) * Pose(Eigen::Quaterniond(Eigen::AngleAxisd(
+                                  15 * kDeg * f, Eigen::Vector3d::UnitZ())),
+                              Eigen::Vector3d::Zero());
+    const Pose cam_from_pen = cam_from_tank * tank_from_pen;
+    const auto dets =
+        Concat(testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank,
+                                          0.1, &rng),
+               testing::ProjectDetections(camera, rig.pen->faces, cam_from_pen,
+                                          0.1, &rng));
+    const FrameResult r = tracker.TrackDetections(dets, f / kFps);
+    ASSERT_TRUE(r.pen.has_pose());
+    EXPECT_LT(RotationDistance(*r.pen.cam_from_object, cam_from_pen), 1 * kDeg)
+        << "frame " << f;
+  }
+}
+
+TEST(TrackerTest, HoldsAnOccludedBoardThenLosesIt) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  TrackerOptions options;
+  options.tank_hold_s = 0.5;
+  options.pen_hold_s = 0.0;
+  Tracker tracker(camera, rig, options);
+  std::mt19937 rng(6);
+  const Pose cam_from_tank = BoardView();
+  const Pose cam_from_pen = cam_from_tank * TankFromPen(0);
+  for (int f = 0; f < 30; ++f) {
+    const double t = f / kFps;
+    std::vector<TagDetection> dets;
+    const bool visible = f < 5 || f >= 25;
+    if (visible) {
+      dets = Concat(testing::ProjectDetections(camera, rig.tank_tags,
+                                               cam_from_tank, 0.1, &rng),
+                    testing::ProjectDetections(camera, rig.pen->faces,
+                                               cam_from_pen, 0.1, &rng));
+    }
+    const FrameResult r = tracker.TrackDetections(dets, t);
+    if (visible) {
+      EXPECT_EQ(r.tank.status, TrackStatus::kTracked) << f;
+      EXPECT_EQ(r.pen.status, TrackStatus::kTracked) << f;
+      EXPECT_EQ(r.tank.reinitialized, f == 0 || f == 25) << f;
+    } else if (t - 4 / kFps <= 0.5 + 1e-9) {
+      EXPECT_EQ(r.tank.status, TrackStatus::kHeld) << f;
+      ASSERT_TRUE(r.tank.has_pose());
+      EXPECT_LT(RotationDistance(*r.tank.cam_from_object, cam_from_tank),
+                0.2 * kDeg);
+      EXPECT_EQ(r.pen.status, TrackStatus::kLost) << f;
+      EXPECT_FALSE(r.pen.has_pose());
+      EXPECT_FALSE(r.tip_in_tank);
+    } else {
+      EXPECT_EQ(r.tank.status, TrackStatus::kLost) << f;
+      EXPECT_FALSE(r.tank.has_pose());
+      EXPECT_FALSE(r.pen.has_pose());
+      const auto rows = tracker.ToPoseRows(r);
+      EXPECT_FALSE(rows[0].cam_from_object);
+    }
+  }
+}
+
+TEST(TrackerTest, PartlyOccludedBoardStaysAccurate) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  Tracker tracker(camera, rig, TrackerOptions{});
+  std::mt19937 rng(7);
+  const Pose truth = BoardView();
+  for (int keep = 10; keep >= 1; --keep) {
+    auto dets =
+        testing::ProjectDetections(camera, rig.tank_tags, truth, 0.1, &rng);
+    dets.resize(std::min<size_t>(dets.size(), keep));
+    const FrameResult r = tracker.TrackDetections(dets, keep / kFps);
+    ASSERT_EQ(r.tank.status, TrackStatus::kTracked);
+    EXPECT_EQ(r.tank.tags.size(), dets.size());
+    EXPECT_LT(RotationDistance(*r.tank.cam_from_object, truth),
+              (keep > 2 ? 0.2 : 1.0) * kDeg)
+        << keep << " tags";
+  }
+}
+
+TEST(TrackerTest, UnknownTagsAreIgnored) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  Tracker tracker(camera, rig, TrackerOptions{});
+  TagDetection stray;
+  stray.id = 200;
+  stray.corners = {Eigen::Vector2d(10, 10), Eigen::Vector2d(40, 10),
+                   Eigen::Vector2d(40, 40), Eigen::Vector2d(10, 40)};
+  const FrameResult r = tracker.TrackDetections({stray}, 0.0);
+  EXPECT_EQ(r.tank.status, TrackStatus::kLost);
+  EXPECT_EQ(r.pen.status, TrackStatus::kLost);
+}
+
+TEST(TrackerTest, RegionSearchOnRenderedFrames) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  auto family = TagFamily::Create(rig.family);
+  TrackerOptions roi_options, full_options;
+  roi_options.full_search_period = 4;
+  full_options.roi_search = false;
+  Tracker roi(camera, rig, roi_options), full(camera, rig, full_options);
+  int roi_frames = 0;
+  for (int f = 0; f < 8; ++f) {
+    const Pose cam_from_tank = BoardView(0.01 * f);
+    const Pose cam_from_pen = cam_from_tank * TankFromPen(f / kFps);
+    auto placed = testing::PlaceObjectTags(rig.tank_tags, cam_from_tank);
+    for (const auto& p : testing::PlaceObjectTags(rig.pen->faces, cam_from_pen))
+      if (p.cam_from_tag.R().col(2).dot(p.cam_from_tag.translation) > 0)
+        placed.push_back(p);
+    const cv::Mat image = testing::RenderTags(camera, *family, placed, 3);
+    const FrameResult a = roi.Track(image, f / kFps);
+    const FrameResult b = full.Track(image, f / kFps);
+    ASSERT_EQ(a.tank.status, TrackStatus::kTracked);
+    ASSERT_EQ(b.tank.status, TrackStatus::kTracked);
+    ASSERT_TRUE(a.tip_in_tank && b.tip_in_tank);
+    EXPECT_EQ(a.detections.size(), b.detections.size());
+    const Eigen::Vector3d tip = TankFromPen(f / kFps) * rig.pen->tip_in_pen;
+    EXPECT_LT((*a.tip_in_tank - tip).norm(), 0.002);
+    EXPECT_LT((*a.tip_in_tank - *b.tip_in_tank).norm(), 0.001);
+    EXPECT_GT(a.timings.total_ms, 0.0);
+    if (!a.timings.full_search) ++roi_frames;
+  }
+  EXPECT_GE(roi_frames, 4);
+}
+
+TEST(PoseFilterTest, LagsARampByAtMostOneFrame) {
+  PoseFilterOptions options;
+  options.enabled = true;
+  options.beta_translation = 0;  // the slowest setting
+  options.min_cutoff_hz = 0.1;
+  PoseFilter filter(options);
+  const double v = 0.05;  // m/s
+  for (int f = 0; f < 120; ++f) {
+    const double t = f / kFps;
+    const Pose in(Eigen::Quaterniond::Identity(), Eigen::Vector3d(v * t, 0, 0));
+    const Pose out = filter.Filter(in, t);
+    EXPECT_LE(v * t - out.translation.x(), v / kFps + 1e-9) << f;
+  }
+}
+
+TEST(PoseFilterTest, ReducesJitterAtRest) {
+  PoseFilterOptions options;
+  options.enabled = true;
+  PoseFilter filter(options);
+  std::mt19937 rng(8);
+  std::normal_distribution<double> noise(0, 0.001);
+  double raw_sq = 0, out_sq = 0;
+  for (int f = 0; f < 300; ++f) {
+    const Eigen::Vector3d p(noise(rng), noise(rng), 0.5 + noise(rng));
+    const Pose out =
+        filter.Filter(Pose(Eigen::Quaterniond::Identity(), p), f / kFps);
+    if (f < 30) continue;
+    raw_sq += (p - Eigen::Vector3d(0, 0, 0.5)).squaredNorm();
+    out_sq += (out.translation - Eigen::Vector3d(0, 0, 0.5)).squaredNorm();
+  }
+  EXPECT_LT(out_sq, 0.6 * raw_sq);
+}
+
+TEST(TrackerOptionsTest, Validates) {
+  TrackerOptions options;
+  std::string error;
+  EXPECT_TRUE(options.IsValid(&error)) << error;
+  options.detector.quad_decimate = 0.5;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("quad_decimate"), std::string::npos);
+  options = TrackerOptions{};
+  options.full_search_period = 0;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_EQ(ParsePenMode("best-face"), PenMode::kBestFace);
+  EXPECT_FALSE(ParsePenMode("best"));
+}
+
+}  // namespace
+}  // namespace ripple::tracking

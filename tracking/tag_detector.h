@@ -1,0 +1,88 @@
+// AprilTag detection with libapriltag, corners in OpenCV's pixel convention.
+//
+// libapriltag's corners are biased against OpenCV's convention (integer
+// coordinates = pixel centres): they sit +0.5 px in x and y (DESIGN.md, "What
+// the tracker can count on"), and its edge refinement places each edge
+// slightly inside the black square. The detector removes both: it subtracts
+// `pixel_offset_px` and moves every edge line outward by `edge_outward_px`
+// (the corrected corner is the intersection of the shifted edge lines).
+// tests/tracking/tag_detector_test.cc measures the remaining bias on
+// ray-cast frames (docs/tracking.md, "Corner bias").
+#ifndef RIPPLE_TRACKING_TAG_DETECTOR_H_
+#define RIPPLE_TRACKING_TAG_DETECTOR_H_
+
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+namespace ripple::tracking {
+
+// One detected tag. Corners are in the order top-left, top-right,
+// bottom-right, bottom-left of the tag image as the family draws it (the
+// order of TagPlacement::CornerInObject), in distorted image pixels (OpenCV
+// convention, as observed: not undistorted).
+struct TagDetection {
+  int id = -1;
+  std::array<Eigen::Vector2d, 4> corners;
+  double decision_margin = 0;  // libapriltag's decoding margin (higher: surer)
+  int hamming = 0;             // bits corrected
+  // Mean edge length, pixels.
+  double SizePx() const;
+};
+
+struct TagDetectorOptions {
+  std::string family = "tag36h11";
+  // Quad finding runs on an image decimated by this factor (>= 1); corners
+  // are refined at full resolution when refine_edges is on.
+  double quad_decimate = 2.0;
+  double quad_sigma = 0.0;  // Gaussian blur before quad finding, pixels
+  int threads = 1;          // libapriltag worker threads
+  bool refine_edges = true;
+  double decode_sharpening = 0.25;
+  int max_hamming = 1;                // reject detections with more bit errors
+  double min_decision_margin = 15.0;  // reject weaker decodes
+  // Bias correction (see the file comment). Pixels.
+  double pixel_offset_px = 0.5;
+  double edge_outward_px = 0.0;
+
+  bool IsValid(std::string* error) const;
+};
+
+// Stateful wrapper around one libapriltag detector. Not thread-safe (one
+// detector per thread); movable, not copyable.
+class TagDetector {
+ public:
+  // CHECKs options.IsValid().
+  explicit TagDetector(const TagDetectorOptions& options);
+  ~TagDetector();
+  TagDetector(TagDetector&&) noexcept;
+  TagDetector& operator=(TagDetector&&) noexcept;
+
+  // Detects tags in an 8-bit image (CV_8UC1, or CV_8UC3 BGR which is
+  // converted). With `rois` non-empty only those rectangles (clipped to the
+  // image) are searched, without copying pixels; a tag must lie wholly inside
+  // one of them. Duplicate ids keep the detection with the larger margin.
+  std::vector<TagDetection> Detect(const cv::Mat& image,
+                                   const std::vector<cv::Rect>& rois = {});
+
+  const TagDetectorOptions& options() const { return options_; }
+
+ private:
+  struct Impl;
+  TagDetectorOptions options_;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Applies the detector's bias correction to libapriltag's raw corners
+// (already in TL, TR, BR, BL order). Exposed for tests and benchmarks.
+std::array<Eigen::Vector2d, 4> CorrectCorners(
+    const std::array<Eigen::Vector2d, 4>& raw, double pixel_offset_px,
+    double edge_outward_px);
+
+}  // namespace ripple::tracking
+
+#endif  // RIPPLE_TRACKING_TAG_DETECTOR_H_

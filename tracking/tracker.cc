@@ -1,0 +1,395 @@
+#include "tracking/tracker.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <opencv2/imgproc.hpp>
+
+namespace ripple::tracking {
+namespace {
+
+constexpr double kDegToRad = M_PI / 180.0;
+
+double NowMs() {
+  return std::chrono::duration<double, std::milli>(
+             std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+TrackerOptions WithRigFamily(TrackerOptions options, const Rig& rig) {
+  options.detector.family = rig.family;
+  return options;
+}
+
+void Check(bool ok, const std::string& what, const std::string& error) {
+  if (!ok) {
+    std::fprintf(stderr, "Tracker: invalid %s: %s\n", what.c_str(),
+                 error.c_str());
+    std::abort();
+  }
+}
+
+// Merges overlapping rectangles until none overlap.
+std::vector<cv::Rect> MergeRects(std::vector<cv::Rect> rects) {
+  bool merged = true;
+  while (merged) {
+    merged = false;
+    for (size_t i = 0; i < rects.size() && !merged; ++i) {
+      for (size_t j = i + 1; j < rects.size(); ++j) {
+        if ((rects[i] & rects[j]).area() > 0) {
+          rects[i] = rects[i] | rects[j];
+          rects.erase(rects.begin() + j);
+          merged = true;
+          break;
+        }
+      }
+    }
+  }
+  return rects;
+}
+
+// Viewing angle cosine of a face: 1 when it faces the camera squarely.
+double FacingCosine(const Pose& cam_from_object, const Pose& object_from_tag) {
+  const Pose cam_from_tag = cam_from_object * object_from_tag;
+  const Eigen::Vector3d z = cam_from_tag.R().col(2);  // into the tag
+  const Eigen::Vector3d ray = cam_from_tag.translation.normalized();
+  return z.dot(ray);
+}
+
+}  // namespace
+
+const char* ToString(PenMode mode) {
+  return mode == PenMode::kJoint ? "joint" : "best-face";
+}
+const char* ToString(FaceSelection selection) {
+  return selection == FaceSelection::kLeastUncertain ? "uncertainty"
+                                                     : "frontal";
+}
+std::optional<PenMode> ParsePenMode(const std::string& s) {
+  if (s == "joint") return PenMode::kJoint;
+  if (s == "best-face") return PenMode::kBestFace;
+  return std::nullopt;
+}
+std::optional<FaceSelection> ParseFaceSelection(const std::string& s) {
+  if (s == "uncertainty") return FaceSelection::kLeastUncertain;
+  if (s == "frontal") return FaceSelection::kMostFrontal;
+  return std::nullopt;
+}
+
+bool TrackerOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (!detector.IsValid(error)) return false;
+  if (!pose.IsValid(error)) return false;
+  if (!smoothing.IsValid(error)) return false;
+  if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
+  if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
+    return fail("flip_angle_deg must be in (0, 180)");
+  if (!(flip_keep_rmse_px >= 0)) return fail("flip_keep_rmse_px must be >= 0");
+  if (!(flip_cost_ratio > 0 && flip_cost_ratio <= 1))
+    return fail("flip_cost_ratio must be in (0, 1]");
+  if (!(cut_jump_fraction > 0)) return fail("cut_jump_fraction must be > 0");
+  if (!(tank_hold_s >= 0 && pen_hold_s >= 0))
+    return fail("hold times must be >= 0");
+  if (full_search_period < 1) return fail("full_search_period must be >= 1");
+  if (!(roi_margin_fraction >= 0 && roi_margin_px >= 0))
+    return fail("roi margins must be >= 0");
+  return true;
+}
+
+Tracker::Tracker(const Camera& camera, const Rig& rig,
+                 const TrackerOptions& options)
+    : camera_(camera),
+      rig_(rig),
+      options_(WithRigFamily(options, rig)),
+      detector_((Check(options_.IsValid(nullptr), "options", ""),
+                 options_.detector)) {
+  std::string error;
+  Check(camera.IsValid(&error), "camera", error);
+  Check(rig.IsValid(&error), "rig", error);
+  Reset();
+}
+
+void Tracker::Reset() {
+  tank_ = ObjectState{};
+  pen_ = ObjectState{};
+  tank_.filter = PoseFilter(options_.smoothing);
+  pen_.filter = PoseFilter(options_.smoothing);
+  frame_ = 0;
+  frames_since_full_ = 0;
+  last_corners_.clear();
+}
+
+std::vector<cv::Rect> Tracker::PredictRois() const {
+  std::vector<cv::Rect> rects;
+  auto add_object = [&](const std::optional<Pose>& pose,
+                        const std::vector<TagPlacement>& tags) {
+    if (!pose) return;
+    for (const TagPlacement& tag : tags) {
+      // Skip faces turned well away from the camera.
+      if (FacingCosine(*pose, tag.object_from_tag) < -0.2) continue;
+      double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+      bool ok = true;
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector3d p = *pose * tag.CornerInObject(k);
+        if (p.z() <= 1e-3) {
+          ok = false;
+          break;
+        }
+        const Eigen::Vector2d uv = camera_.Project(p);
+        x0 = std::min(x0, uv.x());
+        y0 = std::min(y0, uv.y());
+        x1 = std::max(x1, uv.x());
+        y1 = std::max(y1, uv.y());
+      }
+      if (!ok) continue;
+      const double m =
+          options_.roi_margin_fraction * std::max(x1 - x0, y1 - y0) +
+          options_.roi_margin_px;
+      x0 = std::max(x0 - m, -1.0);
+      y0 = std::max(y0 - m, -1.0);
+      x1 = std::min(x1 + m, double(camera_.width));
+      y1 = std::min(y1 + m, double(camera_.height));
+      if (x1 <= x0 || y1 <= y0) continue;
+      const int ix0 = static_cast<int>(std::floor(x0)),
+                iy0 = static_cast<int>(std::floor(y0));
+      rects.emplace_back(ix0, iy0, static_cast<int>(std::ceil(x1)) - ix0,
+                         static_cast<int>(std::ceil(y1)) - iy0);
+    }
+  };
+  add_object(tank_.last_output, rig_.tank_tags);
+  if (rig_.pen) add_object(pen_.last_output, rig_.pen->faces);
+  return MergeRects(rects);
+}
+
+bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
+  if (last_corners_.empty() || detections.empty()) return false;
+  int shared = 0, jumped = 0;
+  for (const TagDetection& d : detections) {
+    auto it = last_corners_.find(d.id);
+    if (it == last_corners_.end()) continue;
+    ++shared;
+    double move = 0;
+    for (int k = 0; k < 4; ++k) move += (d.corners[k] - it->second[k]).norm();
+    if (0.25 * move > options_.cut_jump_fraction * d.SizePx()) ++jumped;
+  }
+  return shared == 0 || jumped == shared;
+}
+
+std::optional<Tracker::Estimate> Tracker::CheckFlip(
+    const std::vector<TagObservation>& obs, const ObjectPose& estimate,
+    const std::optional<Pose>& prior) const {
+  Estimate e{estimate, false, false};
+  if (!prior) return e;
+  if (RotationDistance(estimate.cam_from_object, *prior) <=
+      options_.flip_angle_deg * kDegToRad)
+    return e;
+  ObjectPose continued;
+  if (RefineObjectPose(options_.pose, camera_, obs, *prior, &continued) &&
+      continued.rmse_px <= options_.max_rmse_px &&
+      (continued.rmse_px <= options_.flip_keep_rmse_px ||
+       !(estimate.sse_px2 < options_.flip_cost_ratio * continued.sse_px2))) {
+    const bool different =
+        RotationDistance(continued.cam_from_object, estimate.cam_from_object) >
+        options_.flip_angle_deg * kDegToRad;
+    continued.alternative_rmse_px = estimate.rmse_px;
+    return Estimate{continued, different, false};
+  }
+  e.jumped = true;
+  return e;
+}
+
+std::optional<Tracker::Estimate> Tracker::EstimateTank(
+    const std::vector<TagObservation>& obs, bool use_prior) const {
+  ObjectPose pose;
+  if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
+    return std::nullopt;
+  auto e = CheckFlip(obs, pose, use_prior ? tank_.last_raw : std::nullopt);
+  if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+  return e;
+}
+
+std::optional<Tracker::Estimate> Tracker::EstimatePen(
+    const std::vector<TagObservation>& obs, bool use_prior) const {
+  const std::optional<Pose> prior = use_prior ? pen_.last_raw : std::nullopt;
+  if (options_.pen_mode == PenMode::kJoint || obs.size() == 1) {
+    ObjectPose pose;
+    if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
+      return std::nullopt;
+    auto e = CheckFlip(obs, pose, prior);
+    if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+    return e;
+  }
+  // Best face: pose every face alone, keep the best by the chosen rule.
+  std::optional<Estimate> best;
+  std::vector<TagObservation> best_obs;
+  double best_score = std::numeric_limits<double>::infinity();
+  for (const TagObservation& o : obs) {
+    const std::vector<TagObservation> one = {o};
+    ObjectPose pose;
+    if (!EstimateObjectPose(options_.pose, camera_, one, {}, &pose)) continue;
+    if (pose.rmse_px > options_.max_rmse_px) continue;
+    double score;
+    if (options_.face_selection == FaceSelection::kMostFrontal) {
+      score = -std::abs(FacingCosine(pose.cam_from_object, o.object_from_tag));
+    } else {
+      score = PointUncertainty(camera_, one, pose.cam_from_object,
+                               rig_.pen->tip_in_pen);
+    }
+    if (score < best_score) {
+      best_score = score;
+      best = Estimate{pose, false, false};
+      best_obs = one;
+    }
+  }
+  if (!best) return std::nullopt;
+  auto e = CheckFlip(best_obs, best->pose, prior);
+  if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+  return e;
+}
+
+void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
+                           double time_s, bool cut, double hold_s,
+                           ObjectState* state, ObjectTrack* out) {
+  *out = ObjectTrack{};
+  if (estimate) {
+    const bool fresh = cut || !state->last_raw.has_value();
+    if (fresh) state->filter.Reset();
+    out->status = TrackStatus::kTracked;
+    out->rmse_px = estimate->pose.rmse_px;
+    out->tags = estimate->pose.tag_ids;
+    out->reinitialized = fresh;
+    out->flip_rejected = estimate->flip_rejected;
+    out->jumped = estimate->jumped && !cut;
+    state->last_raw = estimate->pose.cam_from_object;
+    out->cam_from_object =
+        state->filter.Filter(estimate->pose.cam_from_object, time_s);
+    state->last_output = out->cam_from_object;
+    state->last_seen_s = time_s;
+    state->ever_seen = true;
+    return;
+  }
+  if (state->last_output && !cut && time_s - state->last_seen_s <= hold_s) {
+    out->status = TrackStatus::kHeld;
+    out->cam_from_object = state->last_output;
+    return;
+  }
+  state->last_raw.reset();
+  state->last_output.reset();
+  state->filter.Reset();
+  out->status = TrackStatus::kLost;
+}
+
+FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
+                            double time_s) {
+  FrameResult r;
+  r.frame = frame_++;
+  r.time_s = time_s;
+  r.detections = detections;
+  r.cut = IsCut(detections);
+  const bool use_prior = !r.cut;
+  const auto tank_obs = MatchObservations(camera_, rig_.tank_tags, detections);
+  std::optional<Estimate> tank_estimate;
+  if (!tank_obs.empty()) tank_estimate = EstimateTank(tank_obs, use_prior);
+  UpdateObject(tank_estimate, time_s, r.cut, options_.tank_hold_s, &tank_,
+               &r.tank);
+  if (rig_.pen) {
+    const auto pen_obs =
+        MatchObservations(camera_, rig_.pen->faces, detections);
+    std::optional<Estimate> pen_estimate;
+    if (!pen_obs.empty()) pen_estimate = EstimatePen(pen_obs, use_prior);
+    UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
+                 &r.pen);
+    if (r.tank.has_pose() && r.pen.has_pose()) {
+      r.tip_in_tank = r.tank.cam_from_object->Inverse() *
+                      (*r.pen.cam_from_object * rig_.pen->tip_in_pen);
+    }
+  }
+  last_corners_.clear();
+  for (const TagDetection& d : detections) last_corners_[d.id] = d.corners;
+  return r;
+}
+
+FrameResult Tracker::TrackDetections(
+    const std::vector<TagDetection>& detections, double time_s,
+    double detect_ms) {
+  const double t0 = NowMs();
+  FrameResult r = Update(detections, time_s);
+  r.timings.detect_ms = detect_ms;
+  r.timings.pose_ms = NowMs() - t0;
+  r.timings.total_ms = detect_ms + r.timings.pose_ms;
+  r.timings.full_search = true;
+  return r;
+}
+
+FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
+  const double t0 = NowMs();
+  const bool any_pose =
+      tank_.last_output.has_value() || pen_.last_output.has_value();
+  bool full = !options_.roi_search || !any_pose ||
+              frames_since_full_ + 1 >= options_.full_search_period;
+  std::vector<TagDetection> detections;
+  if (!full) {
+    const std::vector<cv::Rect> rois = PredictRois();
+    if (rois.empty()) {
+      full = true;
+    } else {
+      detections = detector_.Detect(image, rois);
+      // Fall back to the whole frame when a tracked object went missing.
+      auto found = [&](const std::vector<TagPlacement>& tags) {
+        for (const TagDetection& d : detections)
+          for (const TagPlacement& t : tags)
+            if (t.id == d.id) return true;
+        return false;
+      };
+      const bool tank_missing =
+          tank_.last_output.has_value() && !found(rig_.tank_tags);
+      const bool pen_missing =
+          rig_.pen && pen_.last_output.has_value() && !found(rig_.pen->faces);
+      if (tank_missing || pen_missing) full = true;
+    }
+  }
+  if (full) {
+    detections = detector_.Detect(image);
+    frames_since_full_ = 0;
+  } else {
+    ++frames_since_full_;
+  }
+  const double t1 = NowMs();
+  FrameResult r = Update(detections, time_s);
+  const double t2 = NowMs();
+  r.timings.detect_ms = t1 - t0;
+  r.timings.pose_ms = t2 - t1;
+  r.timings.total_ms = t2 - t0;
+  r.timings.full_search = full;
+  return r;
+}
+
+std::vector<PoseRow> Tracker::ToPoseRows(const FrameResult& result) const {
+  std::vector<PoseRow> rows;
+  auto make = [&](const char* name, const ObjectTrack& t) {
+    PoseRow row;
+    row.frame = result.frame;
+    row.time_s = result.time_s;
+    row.object = name;
+    row.status = t.status;
+    row.cam_from_object = t.cam_from_object;
+    row.faces = t.tags;
+    row.reproj_rmse_px = t.rmse_px;
+    row.ms = result.timings.total_ms;
+    return row;
+  };
+  rows.push_back(make("tank", result.tank));
+  if (rig_.pen) {
+    PoseRow row = make("pen", result.pen);
+    row.tip_in_tank = result.tip_in_tank;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+}  // namespace ripple::tracking

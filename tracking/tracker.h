@@ -1,0 +1,193 @@
+// Per-video tracking of the tank board and the pen cube: tag detection (with
+// region search near the last poses), per-object pose, flip rejection, cut
+// re-initialisation, held/lost status and optional smoothing.
+//
+// Driving it, one call per frame:
+//
+//   tracking::Tracker tracker(camera, rig, tracking::TrackerOptions{});
+//   while (source.Read(&image, &time_s)) {
+//     const tracking::FrameResult r = tracker.Track(image, time_s);
+//     if (r.tank.has_pose()) DrawWater(*r.tank.cam_from_object);
+//     if (r.tip_in_tank) Poke(*r.tip_in_tank);
+//   }
+//
+// A cam_from_object is present exactly when the status is kTracked or kHeld:
+// a lost object never carries an invented pose.
+#ifndef RIPPLE_TRACKING_TRACKER_H_
+#define RIPPLE_TRACKING_TRACKER_H_
+
+#include <Eigen/Core>
+#include <map>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tracking/camera.h"
+#include "tracking/object_pose.h"
+#include "tracking/pose.h"
+#include "tracking/pose_csv.h"
+#include "tracking/pose_filter.h"
+#include "tracking/rig.h"
+#include "tracking/tag_detector.h"
+
+namespace ripple::tracking {
+
+// How the pen pose is computed from its visible faces.
+enum class PenMode {
+  kJoint,     // all visible faces in one problem
+  kBestFace,  // one face, chosen by FaceSelection
+};
+enum class FaceSelection {
+  // The face whose single-face pose puts the least uncertainty on the pen
+  // tip (Gauss-Newton covariance, TrackerOptions' docs).
+  kLeastUncertain,
+  // The face most nearly facing the camera (the paper's rule; the most
+  // ambiguous view of a square).
+  kMostFrontal,
+};
+const char* ToString(PenMode mode);
+const char* ToString(FaceSelection selection);
+std::optional<PenMode> ParsePenMode(const std::string& s);  // joint, best-face
+std::optional<FaceSelection> ParseFaceSelection(
+    const std::string& s);  // uncertainty, frontal
+
+struct TrackerOptions {
+  // The family is taken from the rig; this one is ignored.
+  TagDetectorOptions detector;
+  PoseEstimatorOptions pose;
+  PenMode pen_mode = PenMode::kJoint;
+  FaceSelection face_selection = FaceSelection::kLeastUncertain;
+
+  // A pose whose RMS reprojection error exceeds this is not reported
+  // (pixels).
+  double max_rmse_px = 3.0;
+  // Flips: an estimate whose rotation jumps by more than flip_angle_deg from
+  // the previous frame's is checked against the pose refined from the
+  // previous one (the continued pose). The jump is taken only when the
+  // continued pose fails to explain the corners (RMS error above
+  // flip_keep_rmse_px) and the jump's squared error is below flip_cost_ratio
+  // times the continued pose's; otherwise the continued pose is used
+  // (ObjectTrack::flip_rejected). Jumps taken are flagged (jumped).
+  double flip_angle_deg = 10.0;
+  double flip_keep_rmse_px = 1.0;
+  double flip_cost_ratio = 0.5;
+  // Cuts: when every tag seen in both frames moved by more than this fraction
+  // of its own size (or no tag is shared), the video cut and every object is
+  // re-initialised (no flip check, filters reset).
+  double cut_jump_fraction = 0.5;
+  // How long an object that vanishes keeps its last pose as kHeld (seconds).
+  double tank_hold_s = 0.5;
+  double pen_hold_s = 0.0;
+
+  // Region search: detect only in boxes around the tags predicted from the
+  // last poses, with a full-frame search every full_search_period frames,
+  // whenever nothing is being tracked, and as a fallback in a frame where a
+  // tracked object is not found in its regions.
+  bool roi_search = true;
+  int full_search_period = 10;       // frames
+  double roi_margin_fraction = 0.5;  // of the predicted tag's size
+  double roi_margin_px = 12.0;       // pixels
+
+  PoseFilterOptions smoothing;  // disabled by default
+
+  bool IsValid(std::string* error) const;
+};
+
+struct ObjectTrack {
+  TrackStatus status = TrackStatus::kLost;
+  std::optional<Pose> cam_from_object;  // set iff tracked or held
+  double rmse_px = 0;          // of this frame's estimate (0 when not tracked)
+  std::vector<int> tags;       // tags (pen faces) used this frame
+  bool reinitialized = false;  // first pose after being lost, or after a cut
+  bool flip_rejected = false;  // a >flip_angle jump was resolved back
+  bool jumped = false;  // a >flip_angle jump was accepted (clearly lower error)
+
+  bool has_pose() const { return cam_from_object.has_value(); }
+};
+
+struct FrameTimings {
+  double detect_ms = 0;  // grey conversion + detection (all searches)
+  double pose_ms = 0;    // pose estimation and temporal logic
+  double total_ms = 0;
+  bool full_search = true;  // the whole frame was searched
+};
+
+struct FrameResult {
+  int frame = 0;  // index since construction or Reset()
+  double time_s = 0;
+  ObjectTrack tank;
+  ObjectTrack pen;  // always kLost for a rig without a pen
+  // Pen tip in the tank frame: tank_from_cam * cam_from_pen * tip_in_pen,
+  // when both objects have a pose.
+  std::optional<Eigen::Vector3d> tip_in_tank;
+  bool cut = false;                      // a cut was detected in this frame
+  std::vector<TagDetection> detections;  // all detected tags, corrected
+  FrameTimings timings;
+};
+
+class Tracker {
+ public:
+  // CHECKs camera, rig and options validity.
+  Tracker(const Camera& camera, const Rig& rig, const TrackerOptions& options);
+
+  // One frame (CV_8UC1 or CV_8UC3 BGR, the camera's size) at `time_s`
+  // (seconds, increasing).
+  FrameResult Track(const cv::Mat& image, double time_s);
+  // Pose and temporal logic on detections made elsewhere (benchmarks feed
+  // cached detections); no region search. detect_ms is taken as given.
+  FrameResult TrackDetections(const std::vector<TagDetection>& detections,
+                              double time_s, double detect_ms = 0);
+  // Forgets all history (a new video).
+  void Reset();
+
+  // Rows of the pose CSV for a frame (tank, then pen when the rig has one).
+  std::vector<PoseRow> ToPoseRows(const FrameResult& result) const;
+
+  const TrackerOptions& options() const { return options_; }
+  const Camera& camera() const { return camera_; }
+  const Rig& rig() const { return rig_; }
+
+ private:
+  struct ObjectState {
+    std::optional<Pose> last_raw;     // last estimate, before smoothing
+    std::optional<Pose> last_output;  // last reported pose
+    double last_seen_s = 0;
+    bool ever_seen = false;
+    PoseFilter filter;
+  };
+  struct Estimate {
+    ObjectPose pose;
+    bool flip_rejected = false;
+    bool jumped = false;
+  };
+
+  std::vector<cv::Rect> PredictRois() const;
+  bool IsCut(const std::vector<TagDetection>& detections) const;
+  std::optional<Estimate> EstimateTank(const std::vector<TagObservation>& obs,
+                                       bool use_prior) const;
+  std::optional<Estimate> EstimatePen(const std::vector<TagObservation>& obs,
+                                      bool use_prior) const;
+  std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
+                                    const ObjectPose& estimate,
+                                    const std::optional<Pose>& prior) const;
+  void UpdateObject(const std::optional<Estimate>& estimate, double time_s,
+                    bool cut, double hold_s, ObjectState* state,
+                    ObjectTrack* out);
+  FrameResult Update(const std::vector<TagDetection>& detections,
+                     double time_s);
+
+  Camera camera_;
+  Rig rig_;
+  TrackerOptions options_;
+  TagDetector detector_;
+  ObjectState tank_;
+  ObjectState pen_;
+  int frame_ = 0;
+  int frames_since_full_ = 0;
+  std::map<int, std::array<Eigen::Vector2d, 4>> last_corners_;
+};
+
+}  // namespace ripple::tracking
+
+#endif  // RIPPLE_TRACKING_TRACKER_H_

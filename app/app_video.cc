@@ -2,7 +2,6 @@
 
 #include <cstdio>
 #include <filesystem>
-
 #include <opencv2/videoio.hpp>
 
 namespace ripple::app {
@@ -10,7 +9,8 @@ namespace ripple::app {
 VideoOut::VideoOut() = default;
 VideoOut::~VideoOut() { Close(); }
 
-bool VideoOut::Open(const std::string& path, double fps, cv::Size size, std::string* error) {
+bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
+                    std::string* error) {
   Close();
   const std::string ext = std::filesystem::path(path).extension().string();
   struct Choice {
@@ -23,14 +23,17 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size, std::str
   } else if (ext == ".mkv" || ext == ".avi") {
     choices = {{"FFV1", "FFV1 (lossless)"}};
   } else {
-    if (error) *error = "video output '" + path + "': use .mp4, .mov, .mkv or .avi";
+    if (error)
+      *error = "video output '" + path + "': use .mp4, .mov, .mkv or .avi";
     return false;
   }
   for (const Choice& c : choices) {
     auto w = std::make_unique<cv::VideoWriter>();
     try {
-      const int fourcc = cv::VideoWriter::fourcc(c.fourcc[0], c.fourcc[1], c.fourcc[2], c.fourcc[3]);
-      if (w->open(path, cv::CAP_FFMPEG, fourcc, fps, size, true) && w->isOpened()) {
+      const int fourcc = cv::VideoWriter::fourcc(c.fourcc[0], c.fourcc[1],
+                                                 c.fourcc[2], c.fourcc[3]);
+      if (w->open(path, cv::CAP_FFMPEG, fourcc, fps, size, true) &&
+          w->isOpened()) {
         writer_ = std::move(w);
         codec_ = c.name;
         return true;

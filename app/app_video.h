@@ -5,9 +5,8 @@
 #define RIPPLE_APP_APP_VIDEO_H_
 
 #include <memory>
-#include <string>
-
 #include <opencv2/core.hpp>
+#include <string>
 
 namespace cv {
 class VideoWriter;
@@ -25,7 +24,8 @@ class VideoOut {
   // .mp4: H.264 (falls back to MPEG-4 part 2 if the FFmpeg build lacks an
   // H.264 encoder, and says so); .mkv/.avi: lossless FFV1. False with `error`
   // if the file can't be opened for writing.
-  bool Open(const std::string& path, double fps, cv::Size size, std::string* error);
+  bool Open(const std::string& path, double fps, cv::Size size,
+            std::string* error);
   bool Write(const cv::Mat& bgr);
   void Close();
   bool is_open() const;

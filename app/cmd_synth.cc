@@ -2,7 +2,6 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-
 #include <opencv2/imgcodecs.hpp>
 
 #include "app/app_common.h"
@@ -27,8 +26,8 @@ struct SynthArgs {
 bool ParseSize(const std::string& s, int* w, int* h) {
   char x;
   std::istringstream in(s);
-  return (in >> *w >> x >> *h) && x == 'x' && in.eof() && *w > 0 && *h > 0 && *w <= 16384 &&
-         *h <= 16384;
+  return (in >> *w >> x >> *h) && x == 'x' && in.eof() && *w > 0 && *h > 0 &&
+         *w <= 16384 && *h <= 16384;
 }
 
 int RunSynth(const SynthArgs& args) {
@@ -39,32 +38,37 @@ int RunSynth(const SynthArgs& args) {
   if (!args.size.empty()) {
     int w, h;
     if (!ParseSize(args.size, &w, &h))
-      return Fail(kExitBadInput, "--size '" + args.size + "': expected WIDTHxHEIGHT, e.g. 1280x720");
+      return Fail(kExitBadInput, "--size '" + args.size +
+                                     "': expected WIDTHxHEIGHT, e.g. 1280x720");
     *camera = camera->Scaled(w, h);
   }
   std::vector<synth::FrameSpec> frames;
   std::string error;
   if (!synth::MakeSequence(*camera, *rig, args.seq, &frames, &error))
     return Fail(kExitBadInput, error);
-  if (!MakeDirectories(args.out + "/frames", &error)) return Fail(kExitBadInput, error);
+  if (!MakeDirectories(args.out + "/frames", &error))
+    return Fail(kExitBadInput, error);
   if (!tracking::SaveCamera(*camera, args.out + "/camera.yml", &error) ||
       !tracking::SaveRig(*rig, args.out + "/rig.yml", &error))
     return Fail(kExitBadInput, error);
   tracking::PoseCsvWriter csv;
-  if (!csv.Open(args.out + "/groundtruth.csv", &error)) return Fail(kExitBadInput, error);
+  if (!csv.Open(args.out + "/groundtruth.csv", &error))
+    return Fail(kExitBadInput, error);
   VideoOut video;
   if (!args.video.empty() &&
-      !video.Open(args.video, args.seq.fps, cv::Size(camera->width, camera->height), &error))
+      !video.Open(args.video, args.seq.fps,
+                  cv::Size(camera->width, camera->height), &error))
     return Fail(kExitBadInput, error);
 
   const synth::SceneRenderer renderer(*camera, *rig);
   const auto t0 = std::chrono::steady_clock::now();
   for (const synth::FrameSpec& f : frames) {
-    const synth::RenderedFrame r = renderer.Render(f.scene, f.imaging, f.noise_seed);
+    const synth::RenderedFrame r =
+        renderer.Render(f.scene, f.imaging, f.noise_seed);
     char name[64];
     std::snprintf(name, sizeof(name), "/frames/%06d.png", f.index);
-    if (!args.no_png &&
-        !cv::imwrite(args.out + name, r.image, {cv::IMWRITE_PNG_COMPRESSION, 1}))
+    if (!args.no_png && !cv::imwrite(args.out + name, r.image,
+                                     {cv::IMWRITE_PNG_COMPRESSION, 1}))
       return Fail(kExitRuntime, "cannot write '" + args.out + name + "'");
     if (video.is_open()) video.Write(r.image);
     tracking::PoseRow tank;
@@ -83,44 +87,60 @@ int RunSynth(const SynthArgs& args) {
       pen.faces = r.pen_tags;
       ok = ok && csv.Write(pen);
     }
-    if (!ok) return Fail(kExitRuntime, "cannot write '" + args.out + "/groundtruth.csv'");
+    if (!ok)
+      return Fail(kExitRuntime,
+                  "cannot write '" + args.out + "/groundtruth.csv'");
     if ((f.index + 1) % 25 == 0 || f.index + 1 == int(frames.size()))
-      std::fprintf(stderr, "\rsynth: %d/%zu frames", f.index + 1, frames.size());
+      std::fprintf(stderr, "\rsynth: %d/%zu frames", f.index + 1,
+                   frames.size());
   }
   std::fprintf(stderr, "\n");
   video.Close();
-  if (!csv.Close()) return Fail(kExitRuntime, "cannot finish '" + args.out + "/groundtruth.csv'");
+  if (!csv.Close())
+    return Fail(kExitRuntime,
+                "cannot finish '" + args.out + "/groundtruth.csv'");
   const double secs =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::printf("synth: %zu frames of %dx%d (preset %s, seed %llu) in %.1f s (%.1f ms/frame) -> %s\n",
-              frames.size(), camera->width, camera->height, args.seq.preset.c_str(),
-              static_cast<unsigned long long>(args.seq.seed), secs, 1e3 * secs / frames.size(),
-              args.out.c_str());
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
+          .count();
+  std::printf(
+      "synth: %zu frames of %dx%d (preset %s, seed %llu) in %.1f s (%.1f "
+      "ms/frame) -> %s\n",
+      frames.size(), camera->width, camera->height, args.seq.preset.c_str(),
+      static_cast<unsigned long long>(args.seq.seed), secs,
+      1e3 * secs / frames.size(), args.out.c_str());
   return kExitOk;
 }
 
 CommandAction SetupSynth(CLI::App* sub) {
   auto args = std::make_shared<SynthArgs>();
-  sub->add_option("--out", args->out, "Output folder (frames/, camera.yml, rig.yml, groundtruth.csv)")
+  sub->add_option(
+         "--out", args->out,
+         "Output folder (frames/, camera.yml, rig.yml, groundtruth.csv)")
       ->required();
-  sub->add_option("--camera", args->camera, "Camera calibration YAML")->capture_default_str();
+  sub->add_option("--camera", args->camera, "Camera calibration YAML")
+      ->capture_default_str();
   sub->add_option("--rig", args->rig, "Rig YAML")->capture_default_str();
   sub->add_option("--frames", args->seq.frames, "Number of frames")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  sub->add_option("--segment", args->seq.segment_frames, "Frames per smooth segment (cuts between)")
+  sub->add_option("--segment", args->seq.segment_frames,
+                  "Frames per smooth segment (cuts between)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  sub->add_option("--preset", args->seq.preset, "Motion/imaging preset: benchmark, clean, demo")
+  sub->add_option("--preset", args->seq.preset,
+                  "Motion/imaging preset: benchmark, clean, demo")
       ->capture_default_str()
       ->check(CLI::IsMember({"benchmark", "clean", "demo"}));
-  sub->add_option("--seed", args->seq.seed, "Random seed (output is deterministic per seed)")
+  sub->add_option("--seed", args->seq.seed,
+                  "Random seed (output is deterministic per seed)")
       ->capture_default_str();
   sub->add_option("--fps", args->seq.fps, "Frame rate for time_s")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  sub->add_option("--size", args->size, "Image size WxH (intrinsics scaled from --camera)");
-  sub->add_option("--video", args->video, "Also write the frames as a video (.mkv lossless, .mp4)");
+  sub->add_option("--size", args->size,
+                  "Image size WxH (intrinsics scaled from --camera)");
+  sub->add_option("--video", args->video,
+                  "Also write the frames as a video (.mkv lossless, .mp4)");
   sub->add_flag("--no-png", args->no_png, "Skip the PNG frames (with --video)");
   sub->footer([] {
     return synth::DescribePreset("benchmark") + synth::DescribePreset("clean") +
@@ -131,6 +151,8 @@ CommandAction SetupSynth(CLI::App* sub) {
 
 }  // namespace
 
-RIPPLE_REGISTER_COMMAND(synth, "Render synthetic frames with exact ground-truth poses", SetupSynth);
+RIPPLE_REGISTER_COMMAND(synth,
+                        "Render synthetic frames with exact ground-truth poses",
+                        SetupSynth);
 
 }  // namespace ripple::app

@@ -10,11 +10,10 @@
 #ifndef RIPPLE_APP_COMMAND_H_
 #define RIPPLE_APP_COMMAND_H_
 
+#include <CLI/CLI.hpp>
 #include <functional>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 namespace ripple::app {
 
@@ -40,8 +39,9 @@ struct CommandRegistrar {
   }
 };
 
-#define RIPPLE_REGISTER_COMMAND(name, description, setup) \
-  static ::ripple::app::CommandRegistrar ripple_command_##name(#name, description, setup)
+#define RIPPLE_REGISTER_COMMAND(name, description, setup)       \
+  static ::ripple::app::CommandRegistrar ripple_command_##name( \
+      #name, description, setup)
 
 // Prints "ripple: <message>" on stderr and returns `code`; the one clear line
 // every failure ends with.

@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <fstream>
-
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
 
@@ -123,8 +122,10 @@ std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
     d.convertTo(d, CV_64F);
     const int n = static_cast<int>(d.total());
     if (!(n == 0 || n == 4 || n == 5 || n == 8))
-      return fail("field 'distortion_coefficients' must have 4, 5 or 8 values"
-                  " (got " + std::to_string(n) + ")");
+      return fail(
+          "field 'distortion_coefficients' must have 4, 5 or 8 values"
+          " (got " +
+          std::to_string(n) + ")");
     for (int i = 0; i < n; ++i) c.dist[i] = d.at<double>(i);
   } catch (const cv::Exception& e) {
     return fail(std::string("malformed YAML: ") + e.err);

@@ -6,18 +6,17 @@
 #ifndef RIPPLE_TRACKING_CAMERA_H_
 #define RIPPLE_TRACKING_CAMERA_H_
 
+#include <Eigen/Core>
+#include <Eigen/LU>
 #include <array>
 #include <optional>
 #include <string>
 
-#include <Eigen/Core>
-#include <Eigen/LU>
-
 namespace ripple::tracking {
 
 struct Camera {
-  int width = 0;   // pixels
-  int height = 0;  // pixels
+  int width = 0;                          // pixels
+  int height = 0;                         // pixels
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
   // OpenCV order: k1 k2 p1 p2 k3 k4 k5 k6 (rational model when k4..k6 != 0).
   std::array<double, 8> dist{};
@@ -34,10 +33,10 @@ struct Camera {
     const T r4 = r2 * r2, r6 = r4 * r2;
     const T radial = (T(1) + dist[0] * r2 + dist[1] * r4 + dist[4] * r6) /
                      (T(1) + dist[5] * r2 + dist[6] * r4 + dist[7] * r6);
-    const T xd = x * radial + T(2 * dist[2]) * x * y +
-                 dist[3] * (r2 + T(2) * x * x);
-    const T yd = y * radial + dist[2] * (r2 + T(2) * y * y) +
-                 T(2 * dist[3]) * x * y;
+    const T xd =
+        x * radial + T(2 * dist[2]) * x * y + dist[3] * (r2 + T(2) * x * x);
+    const T yd =
+        y * radial + dist[2] * (r2 + T(2) * y * y) + T(2 * dist[3]) * x * y;
     return {T(fx) * xd + T(cx), T(fy) * yd + T(cy)};
   }
 

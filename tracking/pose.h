@@ -15,8 +15,8 @@ struct Rigid3 {
   using Vec3 = Eigen::Matrix<T, 3, 1>;
   using Quat = Eigen::Quaternion<T>;
 
-  Quat rotation = Quat::Identity();       // unit quaternion
-  Vec3 translation = Vec3::Zero();        // metres
+  Quat rotation = Quat::Identity();  // unit quaternion
+  Vec3 translation = Vec3::Zero();   // metres
 
   Rigid3() = default;
   Rigid3(const Quat& q, const Vec3& t) : rotation(q), translation(t) {}

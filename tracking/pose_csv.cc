@@ -113,8 +113,9 @@ bool ParseDouble(const std::string& s, double* out) {
 std::optional<std::vector<PoseRow>> ReadPoseCsv(const std::string& path,
                                                 std::string* error) {
   std::ifstream in(path);
-  auto fail = [&](int line, const std::string& what)
-      -> std::optional<std::vector<PoseRow>> {
+  auto fail =
+      [&](int line,
+          const std::string& what) -> std::optional<std::vector<PoseRow>> {
     if (error)
       *error = "pose file '" + path + "'" +
                (line > 0 ? " line " + std::to_string(line) : "") + ": " + what;

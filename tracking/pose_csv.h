@@ -8,12 +8,11 @@
 #ifndef RIPPLE_TRACKING_POSE_CSV_H_
 #define RIPPLE_TRACKING_POSE_CSV_H_
 
+#include <Eigen/Core>
 #include <cstdio>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "tracking/pose.h"
 

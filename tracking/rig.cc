@@ -2,11 +2,10 @@
 
 #include <cmath>
 #include <fstream>
-#include <set>
-#include <sstream>
-
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
+#include <set>
+#include <sstream>
 
 namespace ripple::tracking {
 namespace {
@@ -21,7 +20,8 @@ double ReadNumber(const cv::FileNode& parent, const std::string& key,
                   const std::string& path) {
   const cv::FileNode n = parent[key];
   if (n.empty()) throw FieldError{path + "." + key, "missing"};
-  if (!(n.isReal() || n.isInt())) throw FieldError{path + "." + key, "not a number"};
+  if (!(n.isReal() || n.isInt()))
+    throw FieldError{path + "." + key, "not a number"};
   const double v = static_cast<double>(n);
   if (!std::isfinite(v)) throw FieldError{path + "." + key, "not finite"};
   return v;
@@ -76,8 +76,8 @@ const cv::FileNode& RequireMap(const cv::FileNode& n, const std::string& path) {
 Pose ReadPose(const cv::FileNode& node, const std::string& path) {
   const std::vector<double> p = ReadVector(node, "position", 3, path);
   const std::vector<double> q = ReadVector(node, "quaternion", 4, path);
-  const double norm = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] +
-                                q[3] * q[3]);
+  const double norm =
+      std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
   if (std::abs(norm - 1.0) > 1e-3)
     throw FieldError{path + ".quaternion",
                      "must be a unit quaternion [w, x, y, z] (norm " +
@@ -157,15 +157,18 @@ ObstacleSpec ReadObstacle(const cv::FileNode& o, const std::string& path,
 
 void WritePose(cv::FileStorage& fs, const Pose& pose) {
   const Eigen::Quaterniond q = pose.CanonicalRotation();
-  fs << "position" << "[:" << pose.translation.x() << pose.translation.y()
+  fs << "position"
+     << "[:" << pose.translation.x() << pose.translation.y()
      << pose.translation.z() << "]";
-  fs << "quaternion" << "[:" << q.w() << q.x() << q.y() << q.z() << "]";
+  fs << "quaternion"
+     << "[:" << q.w() << q.x() << q.y() << q.z() << "]";
 }
 
 void WriteTags(cv::FileStorage& fs, const std::vector<TagPlacement>& tags) {
   fs << "[";
   for (const TagPlacement& t : tags) {
-    fs << "{:" << "id" << t.id << "edge" << t.edge_m;
+    fs << "{:"
+       << "id" << t.id << "edge" << t.edge_m;
     WritePose(fs, t.object_from_tag);
     fs << "}";
   }
@@ -196,8 +199,8 @@ const TagPlacement* Rig::FindPenFace(int id) const {
 
 bool IsKnownTagFamily(const std::string& family) {
   static const std::set<std::string> kFamilies = {
-      "tag36h11",       "tag25h9",        "tag16h5",
-      "tagCircle21h7",  "tagCircle49h12", "tagStandard41h12",
+      "tag36h11",         "tag25h9",        "tag16h5",
+      "tagCircle21h7",    "tagCircle49h12", "tagStandard41h12",
       "tagStandard52h13", "tagCustom48h12"};
   return kFamilies.count(family) > 0;
 }
@@ -214,7 +217,8 @@ bool Rig::IsValid(std::string* error) const {
   if (tank_tags.empty()) return fail("tank.tags: no tags");
   if (!(tank.size_x_m > 0 && tank.size_y_m > 0))
     return fail("tank.inner_size: must be positive");
-  if (!(tank.wall_height_m > 0)) return fail("tank.wall_height: must be positive");
+  if (!(tank.wall_height_m > 0))
+    return fail("tank.wall_height: must be positive");
   if (!(tank.water_level_m > 0 && tank.water_level_m <= tank.wall_height_m))
     return fail("tank.water_level: must be in (0, wall_height]");
   std::set<int> ids;
@@ -226,8 +230,10 @@ bool Rig::IsValid(std::string* error) const {
   if (pen) {
     if (pen->faces.empty()) return fail("pen.faces: no faces");
     if (!(pen->cube_edge_m > 0)) return fail("pen.cube_edge: must be positive");
-    if (!(pen->shaft_radius_m > 0)) return fail("pen.shaft_radius: must be positive");
-    if (!(pen->shaft_length_m > 0)) return fail("pen.shaft_length: must be positive");
+    if (!(pen->shaft_radius_m > 0))
+      return fail("pen.shaft_radius: must be positive");
+    if (!(pen->shaft_length_m > 0))
+      return fail("pen.shaft_length: must be positive");
     for (const TagPlacement& t : pen->faces) {
       if (!(t.edge_m > 0)) return fail("pen.faces: edge must be positive");
       if (t.edge_m > pen->cube_edge_m + 1e-9)
@@ -299,17 +305,15 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
 
     const cv::FileNode obstacles = root["obstacles"];
     if (!obstacles.empty()) {
-      if (!obstacles.isSeq())
-        throw FieldError{".obstacles", "must be a list"};
+      if (!obstacles.isSeq()) throw FieldError{".obstacles", "must be a list"};
       int i = 0;
       for (const cv::FileNode& o : obstacles)
         rig.obstacles.push_back(ReadObstacle(
             o, ".obstacles[" + std::to_string(i++) + "]", rig_dir));
     }
   } catch (const FieldError& e) {
-    const std::string field = e.field.empty() || e.field[0] != '.'
-                                  ? e.field
-                                  : e.field.substr(1);
+    const std::string field =
+        e.field.empty() || e.field[0] != '.' ? e.field : e.field.substr(1);
     return fail("field '" + field + "': " + e.what);
   } catch (const cv::Exception& e) {
     return fail("malformed YAML: " + e.err);
@@ -328,17 +332,21 @@ bool SaveRig(const Rig& rig, const std::string& path, std::string* error) {
     }
     fs << "rig_version" << rig.version;
     fs << "tag_family" << rig.family;
-    fs << "tank" << "{";
-    fs << "inner_size" << "[:" << rig.tank.size_x_m << rig.tank.size_y_m << "]";
+    fs << "tank"
+       << "{";
+    fs << "inner_size"
+       << "[:" << rig.tank.size_x_m << rig.tank.size_y_m << "]";
     fs << "wall_height" << rig.tank.wall_height_m;
     fs << "water_level" << rig.tank.water_level_m;
     fs << "tags";
     WriteTags(fs, rig.tank_tags);
     fs << "}";
     if (rig.pen) {
-      fs << "pen" << "{";
+      fs << "pen"
+         << "{";
       fs << "cube_edge" << rig.pen->cube_edge_m;
-      fs << "tip" << "[:" << rig.pen->tip_in_pen.x() << rig.pen->tip_in_pen.y()
+      fs << "tip"
+         << "[:" << rig.pen->tip_in_pen.x() << rig.pen->tip_in_pen.y()
          << rig.pen->tip_in_pen.z() << "]";
       fs << "shaft_radius" << rig.pen->shaft_radius_m;
       fs << "shaft_length" << rig.pen->shaft_length_m;
@@ -347,7 +355,8 @@ bool SaveRig(const Rig& rig, const std::string& path, std::string* error) {
       fs << "}";
     }
     if (!rig.obstacles.empty()) {
-      fs << "obstacles" << "[";
+      fs << "obstacles"
+         << "[";
       for (const ObstacleSpec& o : rig.obstacles) {
         fs << "{";
         if (!o.name.empty()) fs << "name" << o.name;
@@ -357,17 +366,21 @@ bool SaveRig(const Rig& rig, const std::string& path, std::string* error) {
         WritePose(fs, o.parent_from_obstacle);
         switch (o.shape) {
           case ObstacleSpec::Shape::kBox:
-            fs << "shape" << "box";
-            fs << "size" << "[:" << o.box_size_m.x() << o.box_size_m.y()
+            fs << "shape"
+               << "box";
+            fs << "size"
+               << "[:" << o.box_size_m.x() << o.box_size_m.y()
                << o.box_size_m.z() << "]";
             break;
           case ObstacleSpec::Shape::kCylinder:
-            fs << "shape" << "cylinder" << "radius" << o.radius_m << "height"
-               << o.height_m;
+            fs << "shape"
+               << "cylinder"
+               << "radius" << o.radius_m << "height" << o.height_m;
             break;
           case ObstacleSpec::Shape::kVoxels:
-            fs << "shape" << "voxels" << "file" << o.voxel_file << "voxel_size"
-               << o.voxel_size_m;
+            fs << "shape"
+               << "voxels"
+               << "file" << o.voxel_file << "voxel_size" << o.voxel_size_m;
             break;
         }
         fs << "}";

@@ -5,11 +5,10 @@
 #ifndef RIPPLE_TRACKING_RIG_H_
 #define RIPPLE_TRACKING_RIG_H_
 
+#include <Eigen/Core>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <Eigen/Core>
 
 #include "tracking/pose.h"
 
@@ -20,8 +19,8 @@ inline constexpr int kRigVersion = 1;
 // One square tag fixed to an object.
 struct TagPlacement {
   int id = -1;
-  double edge_m = 0;       // outer edge of the black square, metres
-  Pose object_from_tag;    // tag frame: centre, x right, y down, z into tag
+  double edge_m = 0;     // outer edge of the black square, metres
+  Pose object_from_tag;  // tag frame: centre, x right, y down, z into tag
 
   // Corner k (0..3: top-left, top-right, bottom-right, bottom-left of the tag
   // image as the family draws it) in the object frame.
@@ -29,14 +28,14 @@ struct TagPlacement {
 };
 
 struct TankSpec {
-  double size_x_m = 0;        // inner size along tank x (the long side)
-  double size_y_m = 0;        // inner size along tank y
-  double wall_height_m = 0;   // floor (z = 0) to the top of the walls
-  double water_level_m = 0;   // rest level of the water above the floor
+  double size_x_m = 0;       // inner size along tank x (the long side)
+  double size_y_m = 0;       // inner size along tank y
+  double wall_height_m = 0;  // floor (z = 0) to the top of the walls
+  double water_level_m = 0;  // rest level of the water above the floor
 };
 
 struct PenSpec {
-  double cube_edge_m = 0;     // edge of the cube the faces are glued on
+  double cube_edge_m = 0;           // edge of the cube the faces are glued on
   std::vector<TagPlacement> faces;  // object = pen frame (cube centre)
   Eigen::Vector3d tip_in_pen = Eigen::Vector3d::Zero();
   double shaft_radius_m = 0;  // the shaft runs from the cube to the tip
@@ -66,7 +65,7 @@ struct Rig {
   std::string family = "tag36h11";
   std::vector<TagPlacement> tank_tags;  // object = tank frame
   TankSpec tank;
-  std::optional<PenSpec> pen;           // absent for a board-only rig
+  std::optional<PenSpec> pen;  // absent for a board-only rig
   std::vector<ObstacleSpec> obstacles;
 
   const TagPlacement* FindTankTag(int id) const;

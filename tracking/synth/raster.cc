@@ -64,13 +64,30 @@ double QuadRectArea(const Eigen::Vector2d quad[4], double x0, double y0,
   return std::abs(ShoelaceArea(a, n));
 }
 
+double QuadRectMappedArea(const Eigen::Vector2d quad[4], double x0, double y0,
+                          double x1, double y1, const Eigen::Matrix3d& h) {
+  Eigen::Vector2d a[8], b[8];
+  int n = 4;
+  for (int i = 0; i < 4; ++i) a[i] = quad[i];
+  n = ClipAxis(a, n, 0, x0, -1, b);
+  if (n < 3) return 0.0;
+  n = ClipAxis(b, n, 0, x1, +1, a);
+  if (n < 3) return 0.0;
+  n = ClipAxis(a, n, 1, y0, -1, b);
+  if (n < 3) return 0.0;
+  n = ClipAxis(b, n, 1, y1, +1, a);
+  if (n < 3) return 0.0;
+  for (int i = 0; i < n; ++i) b[i] = (h * a[i].homogeneous()).hnormalized();
+  return std::abs(ShoelaceArea(b, n));
+}
+
 double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {
   return ShoelaceArea(polygon.data(), static_cast<int>(polygon.size()));
 }
 
-std::vector<Eigen::Vector2d> ClipToRect(const std::vector<Eigen::Vector2d>& poly,
-                                        double x0, double y0, double x1,
-                                        double y1) {
+std::vector<Eigen::Vector2d> ClipToRect(
+    const std::vector<Eigen::Vector2d>& poly, double x0, double y0, double x1,
+    double y1) {
   std::vector<Eigen::Vector2d> a = poly, b(2 * poly.size() + 8);
   auto clip = [&](int axis, double bound, double sign) {
     b.resize(2 * a.size() + 8);
@@ -87,9 +104,8 @@ std::vector<Eigen::Vector2d> ClipToRect(const std::vector<Eigen::Vector2d>& poly
   return a;
 }
 
-bool RasterizePolygon(const std::vector<Eigen::Vector2d>& polygon_px,
-                      int width, int height, cv::Mat* coverage,
-                      cv::Rect* roi) {
+bool RasterizePolygon(const std::vector<Eigen::Vector2d>& polygon_px, int width,
+                      int height, cv::Mat* coverage, cv::Rect* roi) {
   if (polygon_px.size() < 3) return false;
   // Work in "cell" coordinates where pixel u spans [u, u+1] (shift +0.5), and
   // clip to one cell beyond the image so nothing outside can leak in.
@@ -132,7 +148,8 @@ bool RasterizePolygon(const std::vector<Eigen::Vector2d>& polygon_px,
     const int y_end = std::min(h, static_cast<int>(std::ceil(p1.y())));
     if (p0.y() < 0) x -= p0.y() * dxdy;
     for (int y = y_begin; y < y_end; ++y) {
-      const double dy = std::min(double(y + 1), p1.y()) - std::max(double(y), p0.y());
+      const double dy =
+          std::min(double(y + 1), p1.y()) - std::max(double(y), p0.y());
       const double xnext = x + dxdy * dy;
       const double d = dy * dir;
       const double xa = std::min(x, xnext), xb = std::max(x, xnext);

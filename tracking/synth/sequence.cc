@@ -26,10 +26,10 @@ struct Preset {
   Range defocus_px{0, 0};
   Range motion_blur_px{0, 0};
   Range read_noise_dn{0, 0};
-  double shot_noise_gain = 0;   // DN per electron
+  double shot_noise_gain = 0;  // DN per electron
   Range jpeg_quality{0, 0};
   Range exposure{1, 1};
-  double hand_fraction = 0;     // share of frames with a hand occluder
+  double hand_fraction = 0;  // share of frames with a hand occluder
   bool scripted_demo = false;
 };
 
@@ -80,9 +80,11 @@ Pose PenPose(const tracking::Rig& rig, const Vector3d& tip_in_tank, double tilt,
              double tilt_azimuth, double spin) {
   const Eigen::Matrix3d r =
       (Eigen::AngleAxisd(tilt_azimuth, Vector3d::UnitZ()) *
-       Eigen::AngleAxisd(tilt, Vector3d::UnitY()) * Eigen::AngleAxisd(spin, Vector3d::UnitZ()))
+       Eigen::AngleAxisd(tilt, Vector3d::UnitY()) *
+       Eigen::AngleAxisd(spin, Vector3d::UnitZ()))
           .toRotationMatrix();
-  const Vector3d tip_in_pen = rig.pen ? rig.pen->tip_in_pen : Vector3d(0, 0, -0.14);
+  const Vector3d tip_in_pen =
+      rig.pen ? rig.pen->tip_in_pen : Vector3d(0, 0, -0.14);
   return Pose::FromMatrix(r, tip_in_tank - r * tip_in_pen);
 }
 
@@ -119,11 +121,13 @@ std::string DescribePreset(const std::string& name) {
 }
 
 bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
-                  const SequenceOptions& options, std::vector<FrameSpec>* frames,
-                  std::string* error) {
+                  const SequenceOptions& options,
+                  std::vector<FrameSpec>* frames, std::string* error) {
   Preset preset;
   if (!GetPreset(options.preset, &preset)) {
-    if (error) *error = "unknown preset '" + options.preset + "' (benchmark, clean, demo)";
+    if (error)
+      *error =
+          "unknown preset '" + options.preset + "' (benchmark, clean, demo)";
     return false;
   }
   if (options.frames < 1 || options.segment_frames < 1 || !(options.fps > 0)) {
@@ -132,34 +136,48 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
   }
   frames->clear();
   std::mt19937_64 rng(options.seed);
-  auto uni = [&](Range r) { return std::uniform_real_distribution<double>(r.lo, r.hi)(rng); };
-  auto u01 = [&]() { return std::uniform_real_distribution<double>(0, 1)(rng); };
+  auto uni = [&](Range r) {
+    return std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
+  };
+  auto u01 = [&]() {
+    return std::uniform_real_distribution<double>(0, 1)(rng);
+  };
   const double level = rig.tank.water_level_m;
-  const double hx = 0.5 * rig.tank.size_x_m - 0.015, hy = 0.5 * rig.tank.size_y_m - 0.015;
-  const int seg_len = preset.scripted_demo ? options.frames : options.segment_frames;
+  const double hx = 0.5 * rig.tank.size_x_m - 0.015,
+               hy = 0.5 * rig.tank.size_y_m - 0.015;
+  const int seg_len =
+      preset.scripted_demo ? options.frames : options.segment_frames;
 
   for (int start = 0; start < options.frames; start += seg_len) {
     const int n = std::min(seg_len, options.frames - start);
     // Segment parameters.
-    const double dist0 = uni(preset.distance_m), dist1 = dist0 * (1 + 0.08 * (2 * u01() - 1));
+    const double dist0 = uni(preset.distance_m),
+                 dist1 = dist0 * (1 + 0.08 * (2 * u01() - 1));
     const double elev0 = uni(preset.elevation_deg) * kDeg;
-    const double elev1 = preset.scripted_demo ? elev0 : elev0 + 5 * kDeg * (2 * u01() - 1);
+    const double elev1 =
+        preset.scripted_demo ? elev0 : elev0 + 5 * kDeg * (2 * u01() - 1);
     const double az0 = preset.scripted_demo ? -90 * kDeg : 2 * M_PI * u01();
-    const double az1 = preset.scripted_demo ? az0 : az0 + 15 * kDeg * (2 * u01() - 1);
-    const double roll = preset.scripted_demo ? 0.0 : 10 * kDeg * (2 * u01() - 1);
+    const double az1 =
+        preset.scripted_demo ? az0 : az0 + 15 * kDeg * (2 * u01() - 1);
+    const double roll =
+        preset.scripted_demo ? 0.0 : 10 * kDeg * (2 * u01() - 1);
     const Vector2d a(hx * (2 * u01() - 1), hy * (2 * u01() - 1));
     const Vector2d b(hx * (2 * u01() - 1), hy * (2 * u01() - 1));
     // Aim between the board and the pen cube so both stay in view.
     const Vector2d mid = 0.25 * (a + b);
-    const Vector3d target0(mid.x() + 0.02 * (2 * u01() - 1), mid.y() + 0.02 * (2 * u01() - 1), 0.09);
-    const Vector3d target1 = target0 + Vector3d(0.01 * (2 * u01() - 1), 0.01 * (2 * u01() - 1), 0);
+    const Vector3d target0(mid.x() + 0.02 * (2 * u01() - 1),
+                           mid.y() + 0.02 * (2 * u01() - 1), 0.09);
+    const Vector3d target1 =
+        target0 + Vector3d(0.01 * (2 * u01() - 1), 0.01 * (2 * u01() - 1), 0);
     const int dips = 1 + int(u01() * 2);
     const double tilt = (10 + 30 * u01()) * kDeg;
     const double tilt_az = 2 * M_PI * u01();
-    const double spin0 = 2 * M_PI * u01(), spin1 = spin0 + 90 * kDeg * (2 * u01() - 1);
+    const double spin0 = 2 * M_PI * u01(),
+                 spin1 = spin0 + 90 * kDeg * (2 * u01() - 1);
     const double exposure = uni(preset.exposure);
     const bool hand = u01() < 2 * preset.hand_fraction;
-    const int hand_start = start + int(u01() * n / 2), hand_end = hand_start + n / 2;
+    const int hand_start = start + int(u01() * n / 2),
+              hand_end = hand_start + n / 2;
     const Vector2d hand_target(0.12 * (2 * u01() - 1), 0.08 * (2 * u01() - 1));
     const double hand_frac = 0.45 + 0.3 * u01(), hand_rot = 2 * M_PI * u01();
 
@@ -170,24 +188,31 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
       f.time_s = f.index / options.fps;
       // Camera: orbit around the target.
       const double dist = dist0 + (dist1 - dist0) * s;
-      const double elev = elev0 + (elev1 - elev0) * s, az = az0 + (az1 - az0) * s;
+      const double elev = elev0 + (elev1 - elev0) * s,
+                   az = az0 + (az1 - az0) * s;
       const Vector3d target = target0 + (target1 - target0) * s;
-      const Vector3d eye = target + dist * Vector3d(std::cos(elev) * std::cos(az),
-                                                    std::cos(elev) * std::sin(az), std::sin(elev));
+      const Vector3d eye =
+          target + dist * Vector3d(std::cos(elev) * std::cos(az),
+                                   std::cos(elev) * std::sin(az),
+                                   std::sin(elev));
       Pose tank_from_cam = tracking::LookAt(eye, target, Vector3d::UnitZ());
       tank_from_cam.rotation =
-          tank_from_cam.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(roll, Vector3d::UnitZ()));
+          tank_from_cam.rotation *
+          Eigen::Quaterniond(Eigen::AngleAxisd(roll, Vector3d::UnitZ()));
       f.scene.cam_from_tank = tank_from_cam.Inverse();
       // Pen.
       if (rig.pen) {
         Vector3d tip;
-        double pen_tilt = tilt, pen_az = tilt_az, spin = spin0 + (spin1 - spin0) * s;
+        double pen_tilt = tilt, pen_az = tilt_az,
+               spin = spin0 + (spin1 - spin0) * s;
         if (preset.scripted_demo) {
           // Dip in at the left, stroke right past the obstacle, lift out.
-          const double x = -0.06 + 0.12 * Smooth(std::clamp((t - 0.15) / 0.6, 0.0, 1.0));
+          const double x =
+              -0.06 + 0.12 * Smooth(std::clamp((t - 0.15) / 0.6, 0.0, 1.0));
           const double y = 0.025 * std::sin(2 * M_PI * t);
-          const double down = Smooth(std::clamp(t / 0.15, 0.0, 1.0)) *
-                              (1 - Smooth(std::clamp((t - 0.8) / 0.15, 0.0, 1.0)));
+          const double down =
+              Smooth(std::clamp(t / 0.15, 0.0, 1.0)) *
+              (1 - Smooth(std::clamp((t - 0.8) / 0.15, 0.0, 1.0)));
           tip = Vector3d(x, y, level + 0.03 - 0.04 * down);
           pen_tilt = 20 * kDeg;
           pen_az = M_PI;
@@ -203,11 +228,14 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
       // Hand occluder, between the camera and a point near the board edge.
       if (hand && f.index >= hand_start && f.index < hand_end) {
         const Vector3d board_pt(hand_target.x(), hand_target.y(), 0);
-        const Vector3d p = eye + hand_frac * (board_pt - eye) +
-                           Vector3d(0.01 * std::sin(3 * t), 0.01 * std::cos(2 * t), 0);
-        Pose tank_from_hand = tracking::LookAt(p, p + (board_pt - eye), Vector3d::UnitZ());
+        const Vector3d p =
+            eye + hand_frac * (board_pt - eye) +
+            Vector3d(0.01 * std::sin(3 * t), 0.01 * std::cos(2 * t), 0);
+        Pose tank_from_hand =
+            tracking::LookAt(p, p + (board_pt - eye), Vector3d::UnitZ());
         tank_from_hand.rotation =
-            tank_from_hand.rotation * Eigen::Quaterniond(Eigen::AngleAxisd(hand_rot, Vector3d::UnitZ()));
+            tank_from_hand.rotation *
+            Eigen::Quaterniond(Eigen::AngleAxisd(hand_rot, Vector3d::UnitZ()));
         Occluder o;
         o.cam_from_occluder = f.scene.cam_from_tank * tank_from_hand;
         o.outline_m = HandOutline();

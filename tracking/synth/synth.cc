@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
-
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -12,14 +11,18 @@
 #include "tracking/tag_family.h"
 
 namespace ripple::synth {
+
+const cv::Vec3f kPaperBgr(0.88f, 0.88f, 0.86f);
+const cv::Vec3f kInkBgr(0.05f, 0.05f, 0.05f);
+
 namespace {
 
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
 // Reflectances (linear BGR) of the materials in the scene.
-const cv::Vec3f kPaper(0.88f, 0.88f, 0.86f);
-const cv::Vec3f kInk(0.05f, 0.05f, 0.05f);
+const cv::Vec3f& kPaper = kPaperBgr;
+const cv::Vec3f& kInk = kInkBgr;
 const cv::Vec3f kTable(0.22f, 0.33f, 0.45f);
 const cv::Vec3f kCube(0.80f, 0.80f, 0.78f);
 const cv::Vec3f kShaft(0.16f, 0.14f, 0.12f);
@@ -47,7 +50,7 @@ struct TagCells {
 struct PlanarLayer {
   Pose cam_from_plane;
   CellRect rect{0, 0, 0, 0};
-  bool infinite = false;        // paint `outside` everywhere else too
+  bool infinite = false;  // paint `outside` everywhere else too
   cv::Vec3f base, outside;
   const TagCells* tag = nullptr;
   // Illumination: a constant, or the board's soft spotlight when `board`.
@@ -57,7 +60,8 @@ struct PlanarLayer {
 
 float BoardShade(double x, double y) {
   const double dx = x - 0.04, dy = y - 0.03;
-  return static_cast<float>(1.0 - 0.25 * std::min(1.0, (dx * dx + dy * dy) / 0.16));
+  return static_cast<float>(1.0 -
+                            0.25 * std::min(1.0, (dx * dx + dy * dy) / 0.16));
 }
 
 std::vector<Vector2d> ConvexHull(std::vector<Vector2d> pts) {
@@ -107,7 +111,6 @@ struct SceneRenderer::Impl {
   CellRect sheet{0, 0, 0, 0};       // the printed sheet in the tank plane
 };
 
-
 namespace {
 
 TagCells MakeTagCells(const tracking::TagFamily& family, int id,
@@ -121,17 +124,34 @@ TagCells MakeTagCells(const tracking::TagFamily& family, int id,
   cells.origin = -0.5 * cells.n * cells.cell;
   cells.black.resize(size_t(cells.n) * cells.n);
   for (int r = 0; r < cells.n; ++r)
-    for (int c = 0; c < cells.n; ++c) cells.black[r * cells.n + c] = bitmap->black(r, c);
+    for (int c = 0; c < cells.n; ++c)
+      cells.black[r * cells.n + c] = bitmap->black(r, c);
   return cells;
 }
 
-// Integral of a layer's colour over the pixel pre-image `quad` (plane
-// coordinates, area `area`): returns the covered fraction and adds the
-// colour contribution (already divided by `area`) to `*value`.
+// Integral of a layer's colour over the pixel whose pre-image in the plane
+// is `quad`. Areas are measured in the undistorted normalised image (through
+// the plane-to-image homography `h`), so coverage is exact in image space for
+// a pinhole camera and exact to second order under lens distortion. `area` is
+// the pixel's own normalised area. Returns the covered fraction and writes
+// the colour contribution (already divided by `area`) to `*value`.
 float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
-                     double area, cv::Vec3f* value) {
+                     const Eigen::Matrix3d& h, double area, cv::Vec3f* value) {
   const CellRect& r = layer.rect;
-  const double inside = QuadRectArea(quad, r.x0, r.y0, r.x1, r.y1);
+  double qx0 = quad[0].x(), qx1 = qx0, qy0 = quad[0].y(), qy1 = qy0;
+  for (int i = 1; i < 4; ++i) {
+    qx0 = std::min(qx0, quad[i].x());
+    qx1 = std::max(qx1, quad[i].x());
+    qy0 = std::min(qy0, quad[i].y());
+    qy1 = std::max(qy1, quad[i].y());
+  }
+  // Area of the pixel inside [x0,x1]x[y0,y1] with the bbox fast paths.
+  auto covered_area = [&](double x0, double y0, double x1, double y1) {
+    if (qx1 <= x0 || qx0 >= x1 || qy1 <= y0 || qy0 >= y1) return 0.0;
+    if (qx0 >= x0 && qx1 <= x1 && qy0 >= y0 && qy1 <= y1) return area;
+    return QuadRectMappedArea(quad, x0, y0, x1, y1, h);
+  };
+  const double inside = covered_area(r.x0, r.y0, r.x1, r.y1);
   double covered = inside;
   cv::Vec3d sum = cv::Vec3d(layer.base) * inside;
   if (layer.infinite) {
@@ -140,24 +160,18 @@ float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
   }
   if (layer.tag && inside > 0 && layer.tag->n > 0) {
     const TagCells& t = *layer.tag;
-    double qx0 = quad[0].x(), qx1 = qx0, qy0 = quad[0].y(), qy1 = qy0;
-    for (int i = 1; i < 4; ++i) {
-      qx0 = std::min(qx0, quad[i].x());
-      qx1 = std::max(qx1, quad[i].x());
-      qy0 = std::min(qy0, quad[i].y());
-      qy1 = std::max(qy1, quad[i].y());
-    }
     const int c0 = std::max(0, int(std::floor((qx0 - t.origin) / t.cell)));
-    const int c1 = std::min(t.n - 1, int(std::floor((qx1 - t.origin) / t.cell)));
+    const int c1 =
+        std::min(t.n - 1, int(std::floor((qx1 - t.origin) / t.cell)));
     const int r0 = std::max(0, int(std::floor((qy0 - t.origin) / t.cell)));
-    const int r1 = std::min(t.n - 1, int(std::floor((qy1 - t.origin) / t.cell)));
+    const int r1 =
+        std::min(t.n - 1, int(std::floor((qy1 - t.origin) / t.cell)));
     const cv::Vec3d delta = cv::Vec3d(kInk) - cv::Vec3d(layer.base);
     for (int row = r0; row <= r1; ++row) {
       for (int col = c0; col <= c1; ++col) {
         if (!t.black[row * t.n + col]) continue;
         const double x0 = t.origin + col * t.cell, y0 = t.origin + row * t.cell;
-        const double a = QuadRectArea(quad, x0, y0, x0 + t.cell, y0 + t.cell);
-        sum += delta * a;
+        sum += delta * covered_area(x0, y0, x0 + t.cell, y0 + t.cell);
       }
     }
   }
@@ -224,8 +238,9 @@ struct DrawItem {
 
 // Projects a polyline through the camera, densified so distorted edges stay
 // within ~0.05 px of the true curve. Returns false if a point is behind.
-bool ProjectOutline(const tracking::Camera& cam, const std::vector<Vector3d>& pts_in_cam,
-                    bool closed, std::vector<Vector2d>* out) {
+bool ProjectOutline(const tracking::Camera& cam,
+                    const std::vector<Vector3d>& pts_in_cam, bool closed,
+                    std::vector<Vector2d>* out) {
   out->clear();
   const size_t n = pts_in_cam.size();
   const size_t segs = closed ? n : n - 1;
@@ -298,8 +313,9 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
         const Vector3d c = tip + axis * (pen.shaft_length_m * r / rings);
         for (int k = 0; k < around; ++k) {
           const double a = 2 * M_PI * k / around;
-          const Vector3d p = cam_from_pen *
-                             (c + pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
+          const Vector3d p =
+              cam_from_pen *
+              (c + pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
           if (p.z() <= 1e-4) {
             ok = false;
             break;
@@ -312,14 +328,15 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
         it.kind = DrawItem::Kind::kPolygon;
         it.polygon_px = ConvexHull(pts);
         it.polygon_bgr = kShaft * 0.9f;
-        it.depth = (cam_from_pen * (tip + axis * 0.5 * pen.shaft_length_m)).norm();
+        it.depth =
+            (cam_from_pen * (tip + axis * 0.5 * pen.shaft_length_m)).norm();
         pen_items.push_back(it);
       }
     }
     // Cube faces (front-facing only; a convex body's faces never overlap).
     const double e = pen.cube_edge_m;
-    static const Vector3d kNormals[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
-                                         {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    static const Vector3d kNormals[6] = {{1, 0, 0},  {-1, 0, 0}, {0, 1, 0},
+                                         {0, -1, 0}, {0, 0, 1},  {0, 0, -1}};
     const double cube_depth = cam_from_pen.translation.norm();
     for (const Vector3d& n : kNormals) {
       // Face frame: z into the cube (like a tag), x and y spanning the face.
@@ -336,7 +353,8 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
       it.layer.cam_from_plane = cam_from_face;
       it.layer.rect = {-0.5 * e, -0.5 * e, 0.5 * e, 0.5 * e};
       it.layer.base = kCube;
-      it.layer.shade = static_cast<float>(0.55 + 0.45 * std::max(0.0, normal_in_cam.dot(light_in_cam)));
+      it.layer.shade = static_cast<float>(
+          0.55 + 0.45 * std::max(0.0, normal_in_cam.dot(light_in_cam)));
       it.depth = cube_depth;
       pen_items.push_back(it);
       // Tags glued on this face.
@@ -355,8 +373,9 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
         pen_items.push_back(tag_item);
       }
     }
-    std::stable_sort(pen_items.begin(), pen_items.end(),
-                     [](const DrawItem& a, const DrawItem& b) { return a.depth > b.depth; });
+    std::stable_sort(
+        pen_items.begin(), pen_items.end(),
+        [](const DrawItem& a, const DrawItem& b) { return a.depth > b.depth; });
     items.insert(items.end(), pen_items.begin(), pen_items.end());
   }
   // 4. Occluders in front of everything.
@@ -419,52 +438,70 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     const Vector3d n = R.col(2);
     const double nt = n.dot(t);
     const Eigen::Matrix3d Rt = R.transpose();
-    const Pose tank_from_plane = scene.cam_from_tank.Inverse() * layer.cam_from_plane;
-    cv::parallel_for_(cv::Range(region.y, region.br().y + 1), [&](const cv::Range& rows) {
-      for (int v = rows.start; v < rows.end; ++v) {
-        for (int u = region.x; u <= region.br().x; ++u) {
-          const size_t k = size_t(v) * CW + u;
-          const Vector3d ray(impl.corner_rays[k].x(), impl.corner_rays[k].y(), 1.0);
-          const double denom = n.dot(ray);
-          const double s = std::abs(denom) > 1e-12 ? nt / denom : -1.0;
-          valid[k] = s > 0;
-          if (s > 0) {
-            const Vector3d q = Rt * (s * ray - t);
-            plane_pts[k] = q.head<2>();
+    const Pose tank_from_plane =
+        scene.cam_from_tank.Inverse() * layer.cam_from_plane;
+    // Plane (x, y) -> normalised image: [r1 r2 t].
+    Eigen::Matrix3d homography;
+    homography << R.col(0), R.col(1), t;
+    cv::parallel_for_(
+        cv::Range(region.y, region.br().y + 1), [&](const cv::Range& rows) {
+          for (int v = rows.start; v < rows.end; ++v) {
+            for (int u = region.x; u <= region.br().x; ++u) {
+              const size_t k = size_t(v) * CW + u;
+              const Vector3d ray(impl.corner_rays[k].x(),
+                                 impl.corner_rays[k].y(), 1.0);
+              const double denom = n.dot(ray);
+              const double s = std::abs(denom) > 1e-12 ? nt / denom : -1.0;
+              valid[k] = s > 0;
+              if (s > 0) {
+                const Vector3d q = Rt * (s * ray - t);
+                plane_pts[k] = q.head<2>();
+              }
+            }
           }
-        }
-      }
-    });
-    cv::parallel_for_(cv::Range(region.y, region.br().y), [&](const cv::Range& rows) {
-      for (int v = rows.start; v < rows.end; ++v) {
-        cv::Vec3f* row = out.ptr<cv::Vec3f>(v);
-        for (int u = region.x; u < region.br().x; ++u) {
-          const size_t k00 = size_t(v) * CW + u, k10 = k00 + 1, k01 = k00 + CW, k11 = k01 + 1;
-          if (!(valid[k00] && valid[k10] && valid[k01] && valid[k11])) continue;
-          const Vector2d quad[4] = {plane_pts[k00], plane_pts[k10], plane_pts[k11],
-                                    plane_pts[k01]};
-          const double area = 0.5 * std::abs((quad[2] - quad[0]).x() * (quad[3] - quad[1]).y() -
-                                             (quad[2] - quad[0]).y() * (quad[3] - quad[1]).x());
-          if (!(area > 0)) continue;
-          cv::Vec3f value;
-          const float alpha = IntegrateLayer(layer, quad, area, &value);
-          if (alpha <= 0) continue;
-          float shade = layer.shade;
-          if (layer.board) {
-            const Vector2d c = 0.25 * (quad[0] + quad[1] + quad[2] + quad[3]);
-            // Board tags live in their own frames; shade by the tank frame.
-            const Vector3d in_tank = tank_from_plane * Vector3d(c.x(), c.y(), 0);
-            shade = BoardShade(in_tank.x(), in_tank.y());
+        });
+    cv::parallel_for_(
+        cv::Range(region.y, region.br().y), [&](const cv::Range& rows) {
+          for (int v = rows.start; v < rows.end; ++v) {
+            cv::Vec3f* row = out.ptr<cv::Vec3f>(v);
+            for (int u = region.x; u < region.br().x; ++u) {
+              const size_t k00 = size_t(v) * CW + u, k10 = k00 + 1,
+                           k01 = k00 + CW, k11 = k01 + 1;
+              if (!(valid[k00] && valid[k10] && valid[k01] && valid[k11]))
+                continue;
+              const Vector2d quad[4] = {plane_pts[k00], plane_pts[k10],
+                                        plane_pts[k11], plane_pts[k01]};
+              const Vector2d& n00 = impl.corner_rays[k00];
+              const Vector2d& n10 = impl.corner_rays[k10];
+              const Vector2d& n01 = impl.corner_rays[k01];
+              const Vector2d& n11 = impl.corner_rays[k11];
+              const double area =
+                  0.5 * std::abs((n11 - n00).x() * (n01 - n10).y() -
+                                 (n11 - n00).y() * (n01 - n10).x());
+              if (!(area > 0)) continue;
+              cv::Vec3f value;
+              const float alpha =
+                  IntegrateLayer(layer, quad, homography, area, &value);
+              if (alpha <= 0) continue;
+              float shade = scene.flat_lighting ? 1.0f : layer.shade;
+              if (layer.board && !scene.flat_lighting) {
+                const Vector2d c =
+                    0.25 * (quad[0] + quad[1] + quad[2] + quad[3]);
+                // Board tags live in their own frames; shade by the tank frame.
+                const Vector3d in_tank =
+                    tank_from_plane * Vector3d(c.x(), c.y(), 0);
+                shade = BoardShade(in_tank.x(), in_tank.y());
+              }
+              row[u] = row[u] * (1.0f - alpha) + value * shade;
+            }
           }
-          row[u] = row[u] * (1.0f - alpha) + value * shade;
-        }
-      }
-    });
+        });
   }
   return out;
 }
 
-void SceneRenderer::VisibleTags(const SceneState& scene, std::vector<int>* tank_tags,
+void SceneRenderer::VisibleTags(const SceneState& scene,
+                                std::vector<int>* tank_tags,
                                 std::vector<int>* pen_tags) const {
   tank_tags->clear();
   pen_tags->clear();
@@ -488,8 +525,10 @@ void SceneRenderer::VisibleTags(const SceneState& scene, std::vector<int>* tank_
     for (int r = 0; r <= 12 && ok; ++r)
       for (int k = 0; k < 24 && ok; ++k) {
         const double a = 2 * M_PI * k / 24;
-        const Vector3d p = *cam_from_pen * (tip + axis * (pen.shaft_length_m * r / 12) +
-                                            pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
+        const Vector3d p =
+            *cam_from_pen *
+            (tip + axis * (pen.shaft_length_m * r / 12) +
+             pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
         ok = p.z() > 1e-4;
         if (ok) pts.push_back(camera_.Project(p));
       }
@@ -498,7 +537,9 @@ void SceneRenderer::VisibleTags(const SceneState& scene, std::vector<int>* tank_
     ok = true;
     const double h = 0.5 * pen.cube_edge_m;
     for (int i = 0; i < 8 && ok; ++i) {
-      const Vector3d p = *cam_from_pen * Vector3d(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
+      const Vector3d p =
+          *cam_from_pen *
+          Vector3d(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
       ok = p.z() > 1e-4;
       if (ok) pts.push_back(camera_.Project(p));
     }
@@ -520,10 +561,12 @@ void SceneRenderer::VisibleTags(const SceneState& scene, std::vector<int>* tank_
     if (z.dot(centre.normalized()) < 0.1) return false;
     for (int i = 0; i <= 8; ++i) {
       for (int j = 0; j <= 8; ++j) {
-        const Vector3d p = cam_from_tag * Vector3d(edge * (i / 8.0 - 0.5), edge * (j / 8.0 - 0.5), 0);
+        const Vector3d p = cam_from_tag * Vector3d(edge * (i / 8.0 - 0.5),
+                                                   edge * (j / 8.0 - 0.5), 0);
         if (p.z() <= 1e-4) return false;
         const Vector2d px = camera_.Project(p);
-        if (!(px.x() >= 0 && px.y() >= 0 && px.x() <= W - 1 && px.y() <= H - 1)) return false;
+        if (!(px.x() >= 0 && px.y() >= 0 && px.x() <= W - 1 && px.y() <= H - 1))
+          return false;
         for (const Blocker& b : blockers) {
           if (on_pen && b.is_cube) continue;  // its own faces never overlap
           if (on_pen && b.is_pen_shaft) {
@@ -556,7 +599,8 @@ cv::Mat MotionBlurKernel(double length_px, double angle_rad) {
   const int samples = 64;
   for (int i = 0; i < samples; ++i) {
     const double s = length_px * ((i + 0.5) / samples - 0.5);
-    const double x = c + s * std::cos(angle_rad), y = c + s * std::sin(angle_rad);
+    const double x = c + s * std::cos(angle_rad),
+                 y = c + s * std::sin(angle_rad);
     const int x0 = int(std::floor(x)), y0 = int(std::floor(y));
     const double fx = x - x0, fy = y - y0;
     k.at<float>(y0, x0) += float((1 - fx) * (1 - fy));
@@ -569,15 +613,19 @@ cv::Mat MotionBlurKernel(double length_px, double angle_rad) {
 
 }  // namespace
 
-RenderedFrame SceneRenderer::Render(const SceneState& scene, const ImagingOptions& imaging,
+RenderedFrame SceneRenderer::Render(const SceneState& scene,
+                                    const ImagingOptions& imaging,
                                     uint64_t seed) const {
   cv::Mat img = RenderLinear(scene);
   if (imaging.exposure != 1.0) img *= imaging.exposure;
   if (imaging.defocus_sigma_px > 0)
-    cv::GaussianBlur(img, img, cv::Size(0, 0), imaging.defocus_sigma_px, 0, cv::BORDER_REPLICATE);
+    cv::GaussianBlur(img, img, cv::Size(0, 0), imaging.defocus_sigma_px, 0,
+                     cv::BORDER_REPLICATE);
   if (imaging.motion_blur_px > 0.05)
-    cv::filter2D(img, img, -1, MotionBlurKernel(imaging.motion_blur_px, imaging.motion_angle_rad),
-                 cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+    cv::filter2D(
+        img, img, -1,
+        MotionBlurKernel(imaging.motion_blur_px, imaging.motion_angle_rad),
+        cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
   img *= 255.0;
   cv::RNG rng(seed ? seed : 0x9e3779b97f4a7c15ULL);
   if (imaging.shot_noise_gain > 0) {
@@ -598,7 +646,8 @@ RenderedFrame SceneRenderer::Render(const SceneState& scene, const ImagingOption
   img.convertTo(frame.image, CV_8UC3);  // rounds and saturates
   if (imaging.jpeg_quality > 0) {
     std::vector<uchar> buf;
-    cv::imencode(".jpg", frame.image, buf, {cv::IMWRITE_JPEG_QUALITY, imaging.jpeg_quality});
+    cv::imencode(".jpg", frame.image, buf,
+                 {cv::IMWRITE_JPEG_QUALITY, imaging.jpeg_quality});
     frame.image = cv::imdecode(buf, cv::IMREAD_COLOR);
   }
   VisibleTags(scene, &frame.tank_tags, &frame.pen_tags);

@@ -8,11 +8,10 @@
 
 #include <cstdint>
 #include <memory>
+#include <opencv2/core.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <opencv2/core.hpp>
 
 #include "tracking/camera.h"
 #include "tracking/pose.h"
@@ -22,12 +21,16 @@ namespace ripple::synth {
 
 using tracking::Pose;
 
+// Linear reflectances (BGR, 0..1) of the printed paper and of the tag ink.
+extern const cv::Vec3f kPaperBgr;
+extern const cv::Vec3f kInkBgr;
+
 // A flat occluder standing in for a hand: a polygon (metres, in its own
 // plane z = 0) at a pose in the camera frame, drawn in front of everything.
 struct Occluder {
   Pose cam_from_occluder;
   std::vector<Eigen::Vector2d> outline_m;  // counter-clockwise polygon
-  cv::Vec3f bgr{0.45f, 0.55f, 0.75f};       // linear 0..1
+  cv::Vec3f bgr{0.45f, 0.55f, 0.75f};      // linear 0..1
 };
 
 // What is in front of the camera in one frame.
@@ -35,24 +38,27 @@ struct SceneState {
   Pose cam_from_tank;
   std::optional<Pose> tank_from_pen;  // nullopt: no pen in the scene
   std::vector<Occluder> occluders;
+  // Unit illumination everywhere (no spotlight, no face shading): lets tests
+  // compare pixels with exact coverage.
+  bool flat_lighting = false;
 };
 
 // Imaging applied after the exact geometric render, in this order:
 // exposure gain, defocus (Gaussian), linear motion blur, shot + read noise,
 // 8-bit quantisation, JPEG round trip.
 struct ImagingOptions {
-  double exposure = 1.0;           // multiplies the scene radiance
-  double defocus_sigma_px = 0.0;   // Gaussian PSF sigma, pixels
-  double motion_blur_px = 0.0;     // length of the linear blur, pixels
-  double motion_angle_rad = 0.0;   // direction of the blur
-  double read_noise_dn = 0.0;      // Gaussian sigma, 8-bit digital numbers
-  double shot_noise_gain = 0.0;    // DN per electron; 0 disables shot noise
-  int jpeg_quality = 0;            // 1..100 round trip; 0 disables
+  double exposure = 1.0;          // multiplies the scene radiance
+  double defocus_sigma_px = 0.0;  // Gaussian PSF sigma, pixels
+  double motion_blur_px = 0.0;    // length of the linear blur, pixels
+  double motion_angle_rad = 0.0;  // direction of the blur
+  double read_noise_dn = 0.0;     // Gaussian sigma, 8-bit digital numbers
+  double shot_noise_gain = 0.0;   // DN per electron; 0 disables shot noise
+  int jpeg_quality = 0;           // 1..100 round trip; 0 disables
 };
 
 struct RenderedFrame {
-  cv::Mat image;                 // CV_8UC3, BGR, the camera's size
-  std::vector<int> tank_tags;    // ids whose whole black square is visible
+  cv::Mat image;               // CV_8UC3, BGR, the camera's size
+  std::vector<int> tank_tags;  // ids whose whole black square is visible
   std::vector<int> pen_tags;
 };
 
@@ -98,8 +104,8 @@ struct FrameSpec {
 
 // Fills `frames`; false with `error` for an unknown preset or bad counts.
 bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
-                  const SequenceOptions& options, std::vector<FrameSpec>* frames,
-                  std::string* error);
+                  const SequenceOptions& options,
+                  std::vector<FrameSpec>* frames, std::string* error);
 
 // Human-readable statement of a preset's distributions (printed by
 // `ripple synth --help-presets` and quoted in the README).

@@ -4,6 +4,7 @@
 #include <common/image_u8.h>
 #include <common/zarray.h>
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -74,6 +75,138 @@ std::array<Eigen::Vector2d, 4> CorrectCorners(
                               Eigen::Vector2d(edge_outward_px, edge_outward_px);
   }
   return shifted;
+}
+
+namespace {
+
+// Bilinear sample at (x, y) in OpenCV's convention; false outside.
+inline bool Sample(const cv::Mat& g, double x, double y, double* v) {
+  const int x0 = static_cast<int>(std::floor(x));
+  const int y0 = static_cast<int>(std::floor(y));
+  if (x0 < 0 || y0 < 0 || x0 + 1 >= g.cols || y0 + 1 >= g.rows) return false;
+  const double fx = x - x0, fy = y - y0;
+  const uint8_t* r0 = g.ptr<uint8_t>(y0) + x0;
+  const uint8_t* r1 = g.ptr<uint8_t>(y0 + 1) + x0;
+  *v = (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) +
+       fy * ((1 - fx) * r1[0] + fx * r1[1]);
+  return true;
+}
+
+struct Line {
+  Eigen::Vector2d point, dir;  // dir is unit
+};
+
+// Edge points of the edge a -> b with outward normal n; see FitTagEdges.
+bool FitEdgeLine(const cv::Mat& g, const Eigen::Vector2d& a,
+                 const Eigen::Vector2d& b, const Eigen::Vector2d& n,
+                 double half_width, Line* line) {
+  const double length = (b - a).norm();
+  const int samples = std::clamp(static_cast<int>(length / 3), 5, 16);
+  constexpr int kSteps = 12;
+  std::vector<Eigen::Vector2d> points;
+  points.reserve(samples);
+  for (int i = 0; i < samples; ++i) {
+    const double t = 0.12 + 0.76 * (i + 0.5) / samples;
+    Eigen::Vector2d p = a + t * (b - a);
+    bool ok = false;
+    for (int pass = 0; pass < 3; ++pass) {
+      // The first pass looks wider for a coarse corner (decimated quads).
+      const double hw = pass == 0 ? std::max(half_width, 2.0) : half_width;
+      const double step = 2 * hw / kSteps;
+      double v[kSteps + 1];
+      ok = true;
+      for (int j = 0; j <= kSteps && ok; ++j) {
+        const Eigen::Vector2d q = p + (-hw + j * step) * n;
+        ok = Sample(g, q.x(), q.y(), &v[j]);
+      }
+      if (!ok) break;
+      const double dark = (v[0] + v[1]) / 2,
+                   bright = (v[kSteps - 1] + v[kSteps]) / 2;
+      if (bright - dark < 10) {
+        ok = false;
+        break;
+      }
+      const double mid = 0.5 * (dark + bright);
+      // The crossing nearest the window centre.
+      double best = 1e9, offset = 0;
+      for (int j = 0; j < kSteps; ++j) {
+        if ((v[j] < mid) != (v[j + 1] < mid) && v[j + 1] > v[j]) {
+          const double r = -hw + (j + (mid - v[j]) / (v[j + 1] - v[j])) * step;
+          if (std::abs(r) < std::abs(best)) {
+            best = r;
+            offset = r;
+          }
+        }
+      }
+      if (best > 1e8) {
+        ok = false;
+        break;
+      }
+      p += offset * n;  // re-centre the window on the edge, then refine
+    }
+    if (ok) points.push_back(p);
+  }
+  if (points.size() < 4) return false;
+  for (int iteration = 0; iteration < 2; ++iteration) {
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const auto& p : points) mean += p;
+    mean /= points.size();
+    Eigen::Matrix2d cov = Eigen::Matrix2d::Zero();
+    for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov);
+    line->point = mean;
+    line->dir = eig.eigenvectors().col(1);
+    if (iteration == 1) break;
+    // Drop points far from the first fit (a blemish, an occluding edge).
+    const Eigen::Vector2d normal(-line->dir.y(), line->dir.x());
+    std::vector<double> dist;
+    for (const auto& p : points) dist.push_back(std::abs(normal.dot(p - mean)));
+    std::vector<double> sorted = dist;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2,
+                     sorted.end());
+    const double limit = std::max(0.3, 3.0 * sorted[sorted.size() / 2]);
+    std::vector<Eigen::Vector2d> kept;
+    for (size_t i = 0; i < points.size(); ++i)
+      if (dist[i] <= limit) kept.push_back(points[i]);
+    if (kept.size() < 4) return false;
+    points.swap(kept);
+  }
+  return true;
+}
+
+}  // namespace
+
+std::array<Eigen::Vector2d, 4> FitTagEdges(
+    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
+    double cell_px, double max_shift_px) {
+  const Eigen::Vector2d centre =
+      0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+  const double half_width = std::clamp(0.6 * cell_px, 1.0, 3.0);
+  std::array<Line, 4> lines;
+  std::array<bool, 4> ok;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector2d a = corners[k], b = corners[(k + 1) % 4];
+    Eigen::Vector2d n(b.y() - a.y(), a.x() - b.x());
+    if (n.norm() < 1e-9) return corners;
+    n.normalize();
+    if (n.dot(0.5 * (a + b) - centre) < 0) n = -n;
+    ok[k] = FitEdgeLine(gray, a, b, n, half_width, &lines[k]);
+  }
+  std::array<Eigen::Vector2d, 4> out = corners;
+  for (int k = 0; k < 4; ++k) {
+    const int prev = (k + 3) % 4;
+    if (!ok[prev] || !ok[k]) continue;
+    // point_prev + s dir_prev = point_k + u dir_k
+    Eigen::Matrix2d m;
+    m.col(0) = lines[prev].dir;
+    m.col(1) = -lines[k].dir;
+    if (std::abs(m.determinant()) < 1e-3) continue;
+    const Eigen::Vector2d su =
+        m.inverse() * (lines[k].point - lines[prev].point);
+    const Eigen::Vector2d c = lines[prev].point + su(0) * lines[prev].dir;
+    if ((c - corners[k]).norm() <= max_shift_px) out[k] = c;
+  }
+  return out;
 }
 
 struct TagDetector::Impl {
@@ -153,8 +286,19 @@ std::vector<TagDetection> TagDetector::Detect(
       }
       TagDetection d;
       d.id = det->id;
-      d.corners = CorrectCorners(raw, options_.pixel_offset_px,
-                                 options_.edge_outward_px);
+      if (options_.edge_fit) {
+        const auto shifted = CorrectCorners(raw, options_.pixel_offset_px, 0);
+        double size = 0;
+        for (int k = 0; k < 4; ++k)
+          size += 0.25 * (shifted[(k + 1) % 4] - shifted[k]).norm();
+        const double cell_px = size / impl_->family->width_at_border();
+        d.corners = CorrectCorners(FitTagEdges(*gray, shifted, cell_px,
+                                               options_.edge_fit_max_shift_px),
+                                   0.0, options_.edge_outward_px);
+      } else {
+        d.corners = CorrectCorners(raw, options_.pixel_offset_px,
+                                   options_.edge_outward_px);
+      }
       d.decision_margin = det->decision_margin;
       d.hamming = det->hamming;
       auto it = by_id.find(d.id);

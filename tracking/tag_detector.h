@@ -47,7 +47,18 @@ struct TagDetectorOptions {
   double min_decision_margin = 15.0;  // reject weaker decodes
   // Bias correction (see the file comment). Pixels.
   double pixel_offset_px = 0.5;
-  double edge_outward_px = 0.0;
+  // Measured on synth frames after the edge fit (docs/tracking.md): about
+  // +0.01 px outward on sharp frames and +0.01..+0.06 px under the benchmark
+  // preset's blur (the 1-cell black border is lightened by the white data
+  // cells inside it); -0.015 splits the difference.
+  double edge_outward_px = -0.015;
+  // Ripple's own edge fit after libapriltag's: along each edge, the
+  // sub-pixel crossing of the mid level between the black border and the
+  // white margin (unbiased under any symmetric blur), a robust line fit per
+  // edge, and corners at the intersections of adjacent lines.
+  bool edge_fit = true;
+  // A fitted corner further than this from libapriltag's is not trusted.
+  double edge_fit_max_shift_px = 1.5;
 
   bool IsValid(std::string* error) const;
 };
@@ -76,6 +87,15 @@ class TagDetector {
   TagDetectorOptions options_;
   std::unique_ptr<Impl> impl_;
 };
+
+// Fits the four edge lines of a tag around `corners` (TL, TR, BR, BL,
+// OpenCV convention) in an 8-bit grey image and returns their
+// intersections; `cell_px` is the size of one tag cell in pixels (it bounds
+// the profile so that it stays on the black border and the white margin).
+// Corners whose edges cannot be fitted keep their input value.
+std::array<Eigen::Vector2d, 4> FitTagEdges(
+    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
+    double cell_px, double max_shift_px);
 
 // Applies the detector's bias correction to libapriltag's raw corners
 // (already in TL, TR, BR, BL order). Exposed for tests and benchmarks.

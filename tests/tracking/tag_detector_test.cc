@@ -148,6 +148,7 @@ TEST(TagDetectorTest, RawCornersAreOffsetByHalfAPixel) {
   TagDetectorOptions raw;
   raw.pixel_offset_px = 0.0;
   raw.edge_outward_px = 0.0;
+  raw.edge_fit = false;
   const BiasStats s = MeasureBias(raw, 10, 7);
   std::printf("raw: mean (%.3f, %.3f) px, outward %.3f px, rms %.3f px, n %d\n",
               s.mean_xy.x(), s.mean_xy.y(), s.mean_outward, s.rms, s.n);

@@ -1,0 +1,208 @@
+// Synth -> track end to end: corner bias on ray-cast frames, and tracking
+// accuracy on the benchmark preset (blur, noise, JPEG, hand occluders, cuts)
+// with thresholds derived from the measured corner noise.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include "tracking/object_pose.h"
+#include "tracking/synth/synth.h"
+#include "tracking/tracker.h"
+
+namespace ripple::tracking {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+Rig DefaultRig() {
+  std::string error;
+  auto rig =
+      LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
+  EXPECT_TRUE(rig) << error;
+  return *rig;
+}
+
+Camera DefaultCamera() {
+  std::string error;
+  auto camera = LoadCamera(
+      std::string(RIPPLE_SOURCE_DIR) + "/data/camera/default_640x480.yml",
+      &error);
+  EXPECT_TRUE(camera) << error;
+  return *camera;
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0 : v[v.size() / 2];
+}
+
+struct CornerErrors {
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  double mean_outward = 0, rms = 0;
+  int n = 0;
+};
+
+// Corrected corners of every fully visible tag against their true
+// projections.
+CornerErrors MeasureCorners(const std::string& preset, int frames,
+                            const Camera& camera, const Rig& rig,
+                            const TagDetectorOptions& options) {
+  synth::SequenceOptions seq;
+  seq.preset = preset;
+  seq.frames = frames;
+  seq.segment_frames = 3;
+  seq.seed = 5;
+  std::vector<synth::FrameSpec> specs;
+  std::string error;
+  EXPECT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  synth::SceneRenderer renderer(camera, rig);
+  TagDetector detector(options);
+  CornerErrors e;
+  double sq = 0;
+  for (const synth::FrameSpec& spec : specs) {
+    const synth::RenderedFrame frame =
+        renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
+    for (const TagDetection& d : detector.Detect(frame.image)) {
+      const TagPlacement* tag = rig.FindTankTag(d.id);
+      Pose cam_from_object = spec.scene.cam_from_tank;
+      bool visible =
+          std::count(frame.tank_tags.begin(), frame.tank_tags.end(), d.id) > 0;
+      if (!tag) {
+        tag = rig.FindPenFace(d.id);
+        if (!tag || !spec.scene.tank_from_pen) continue;
+        cam_from_object = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+        visible =
+            std::count(frame.pen_tags.begin(), frame.pen_tags.end(), d.id) > 0;
+      }
+      if (!visible) continue;
+      Eigen::Vector2d truth[4], centre = Eigen::Vector2d::Zero();
+      for (int k = 0; k < 4; ++k) {
+        truth[k] = camera.Project(
+            Eigen::Vector3d(cam_from_object * tag->CornerInObject(k)));
+        centre += 0.25 * truth[k];
+      }
+      for (int k = 0; k < 4; ++k) {
+        const Eigen::Vector2d err = d.corners[k] - truth[k];
+        if (err.norm() > 3) continue;  // a gross outlier is not bias
+        e.mean += err;
+        e.mean_outward += err.dot((truth[k] - centre).normalized());
+        sq += err.squaredNorm();
+        ++e.n;
+      }
+    }
+  }
+  e.mean /= std::max(e.n, 1);
+  e.mean_outward /= std::max(e.n, 1);
+  e.rms = std::sqrt(sq / std::max(e.n, 1));
+  return e;
+}
+
+TEST(SynthTrackTest, CornerBiasOnRayCastFrames) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = DefaultRig();
+  for (double decimate : {1.0, 2.0}) {
+    TagDetectorOptions options;
+    options.quad_decimate = decimate;
+    const CornerErrors e = MeasureCorners("clean", 8, camera, rig, options);
+    std::printf(
+        "clean, decimate %.0f: mean (%.3f, %.3f) px, outward %.3f px, rms "
+        "%.3f px over %d corners\n",
+        decimate, e.mean.x(), e.mean.y(), e.mean_outward, e.rms, e.n);
+    EXPECT_GT(e.n, 200);
+    EXPECT_LE(std::abs(e.mean.x()), 0.05);
+    EXPECT_LE(std::abs(e.mean.y()), 0.05);
+    EXPECT_LE(std::abs(e.mean_outward), 0.05);
+  }
+  for (double decimate : {1.0, 2.0}) {
+    TagDetectorOptions options;
+    options.quad_decimate = decimate;
+    const CornerErrors e =
+        MeasureCorners("benchmark", 12, camera, rig, options);
+    std::printf(
+        "benchmark, decimate %.0f: mean (%.3f, %.3f) px, outward %.3f px, rms "
+        "%.3f px over %d corners\n",
+        decimate, e.mean.x(), e.mean.y(), e.mean_outward, e.rms, e.n);
+    EXPECT_LE(std::abs(e.mean.x()), 0.05);
+    EXPECT_LE(std::abs(e.mean.y()), 0.05);
+    EXPECT_LE(std::abs(e.mean_outward), 0.05);
+  }
+  TagDetectorOptions uncorrected;
+  uncorrected.pixel_offset_px = 0;
+  uncorrected.edge_outward_px = 0;
+  uncorrected.edge_fit = false;
+  const CornerErrors raw = MeasureCorners("clean", 4, camera, rig, uncorrected);
+  std::printf("clean, uncorrected: mean (%.3f, %.3f) px, outward %.3f px\n",
+              raw.mean.x(), raw.mean.y(), raw.mean_outward);
+  EXPECT_NEAR(raw.mean.x(), 0.5, 0.1);
+  EXPECT_NEAR(raw.mean.y(), 0.5, 0.1);
+}
+
+TEST(SynthTrackTest, BenchmarkPresetEndToEnd) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = DefaultRig();
+  synth::SequenceOptions seq;
+  seq.preset = "benchmark";
+  seq.frames = 60;
+  seq.segment_frames = 20;
+  seq.seed = 3;
+  std::vector<synth::FrameSpec> specs;
+  std::string error;
+  ASSERT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  synth::SceneRenderer renderer(camera, rig);
+  Tracker tracker(camera, rig, TrackerOptions{});
+  std::vector<double> tip_err, tank_rot, tip_sigma;
+  int tank_visible = 0, tank_tracked = 0, flips = 0, cuts = 0;
+  for (const synth::FrameSpec& spec : specs) {
+    const synth::RenderedFrame frame =
+        renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
+    const FrameResult r = tracker.Track(frame.image, spec.time_s);
+    cuts += r.cut;
+    if (!frame.tank_tags.empty()) {
+      ++tank_visible;
+      if (r.tank.status == TrackStatus::kTracked) ++tank_tracked;
+    }
+    if (r.tank.status == TrackStatus::kLost) {
+      EXPECT_FALSE(r.tank.has_pose());
+      continue;
+    }
+    const double rot =
+        RotationDistance(*r.tank.cam_from_object, spec.scene.cam_from_tank);
+    tank_rot.push_back(rot / kDeg);
+    if (rot > 10 * kDeg) ++flips;
+    if (r.tip_in_tank && spec.scene.tank_from_pen &&
+        r.pen.status == TrackStatus::kTracked) {
+      const Pose cam_from_pen =
+          spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+      if (RotationDistance(*r.pen.cam_from_object, cam_from_pen) > 10 * kDeg)
+        ++flips;
+      const Eigen::Vector3d tip =
+          *spec.scene.tank_from_pen * rig.pen->tip_in_pen;
+      tip_err.push_back((*r.tip_in_tank - tip).norm());
+      // Predicted tip standard deviation for this frame's faces at the
+      // measured reprojection error (the noise level of the corners).
+      const auto obs = MatchObservations(camera, rig.pen->faces, r.detections);
+      tip_sigma.push_back(
+          PointUncertainty(camera, obs, cam_from_pen, rig.pen->tip_in_pen) *
+          std::max(r.pen.rmse_px, 0.05));
+    }
+  }
+  std::printf(
+      "benchmark preset, 60 frames: tank tracked %d/%d, tank rot median "
+      "%.3f deg, tip median %.2f mm (predicted sigma median %.2f mm), %zu "
+      "tip frames, %d cuts, %d flips\n",
+      tank_tracked, tank_visible, Median(tank_rot), 1000 * Median(tip_err),
+      1000 * Median(tip_sigma), tip_err.size(), cuts, flips);
+  EXPECT_EQ(flips, 0);
+  EXPECT_GE(tank_tracked, int(0.95 * tank_visible));
+  EXPECT_LT(Median(tank_rot), 0.1);
+  ASSERT_GE(tip_err.size(), 30u);
+  // The median tip error stays within a few predicted standard deviations.
+  EXPECT_LT(Median(tip_err), 3 * Median(tip_sigma) + 0.0005);
+  EXPECT_LT(Median(tip_err), 0.0015);
+  EXPECT_GE(cuts, 2);  // segments join by cuts
+}
+
+}  // namespace
+}  // namespace ripple::tracking

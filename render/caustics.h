@@ -1,0 +1,60 @@
+// Caustics on the tank floor after Nishita & Nakamae, "Method of displaying
+// optical effects within water using accumulation buffer" (SIGGRAPH 1994):
+// every triangle of the water surface carries the light it intercepts down
+// its refracted rays onto the floor, and deposits it over its projected
+// triangle, so intensity ~ surface area / projected area.
+//
+// Deposition is conservative: a projected triangle's flux is split evenly
+// among the map texels whose centres it covers (or given whole to the texel
+// under its centroid when it covers none), so a focusing triangle cannot
+// create infinite intensity and the flux deposited equals the flux entering
+// the surface (minus what lands outside the map, which the summary counts).
+#ifndef RIPPLE_RENDER_CAUSTICS_H_
+#define RIPPLE_RENDER_CAUSTICS_H_
+
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "render/scene.h"
+
+namespace ripple::render {
+
+struct CausticsOptions {
+  // Map texels over the tank floor: texel (a, b) covers
+  // x in size_x * [a / map_nx - 1/2, (a + 1) / map_nx - 1/2], same in y.
+  int map_nx = 256, map_ny = 256;
+  double ior = 1.33;  // water
+  // Attenuation of light along the refracted path (1/m). The map is
+  // normalised by the flat-water path so that flat water reads 1.
+  double attenuation_per_m = 0.0;
+  int threads = 1;  // CPU threads; each adds a private accumulation map
+
+  bool IsValid(std::string* error) const;
+};
+
+struct CausticsSummary {
+  int triangles = 0;
+  // Fluxes in m^2 times the irradiance of the light on a plane facing it
+  // (i.e. with unit irradiance): entering the surface, deposited in the
+  // map, and landing outside it. With zero attenuation
+  // flux_deposited + flux_outside == flux_in.
+  double flux_in = 0;
+  double flux_deposited = 0;
+  double flux_outside = 0;
+};
+
+// Fills `map` (map_nx * map_ny floats, row-major, row b along tank y) with
+// the floor irradiance relative to that under flat water: 1 = unchanged,
+// > 1 focused light. `light_in_tank` points towards the light (normalised
+// inside, must have z > 0). The surface is the height field's cell-corner
+// mesh (corner heights averaged from the adjacent cells) covering the whole
+// field; null heights mean flat water. Returns false on invalid options.
+bool ComputeCaustics(const CausticsOptions& options,
+                     const HeightFieldView& water, const TankGeometry& tank,
+                     const glm::dvec3& light_in_tank, std::vector<float>* map,
+                     CausticsSummary* summary);
+
+}  // namespace ripple::render
+
+#endif  // RIPPLE_RENDER_CAUSTICS_H_

@@ -1,0 +1,127 @@
+// The AR renderer: draws the virtual tank and water over each camera frame.
+//
+// Per frame (Render()):
+//   1. upload the video frame (and undistort it on the GPU if the intrinsics
+//      have lens distortion: the output is the ideal pinhole image with the
+//      same fx, fy, cx, cy);
+//   2. upload the height field, only if its change counter moved;
+//   3. shadow pass, only if an occluder moved or the light changed (issue 6);
+//   4. caustics on the CPU, only if the surface or the light changed (issue 6);
+//   5. main pass into an FBO: video background, obstacles, pen phantom in
+//      depth, water surface, glass walls.
+// Nothing is read back unless ReadBgr() is called.
+//
+// Typical use, once per camera frame:
+//   auto ctx = Context::TryCreate(Backend::kEgl, w, h, &err);
+//   auto renderer = Renderer::TryCreate(ctx.get(), intrinsics, {}, &err);
+//   SceneInputs scene;                 // keep it; update the fields per frame
+//   scene.video = {frame.data, w, h, (int)frame.step};
+//   scene.cam_from_tank = ...;         // from tracking
+//   scene.water = {sim.heights(), nx, ny, d, sim.change_counter()};
+//   renderer->Render(scene);
+//   renderer->ReadBgr(out.data, out.step);   // or renderer->Present();
+#ifndef RIPPLE_RENDER_RENDERER_H_
+#define RIPPLE_RENDER_RENDERER_H_
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+
+#include "render/camera.h"
+#include "render/context.h"
+#include "render/scene.h"
+
+namespace ripple::render {
+
+struct RendererOptions {
+  // Quads per side of the water mesh. llvmpipe spends ~0.5 us per triangle
+  // per pass, so keep it coarse: detail comes from per-pixel normals.
+  int surface_grid = 32;
+  int shadow_map_size = 1024;   // texels per side
+  int caustics_map_size = 256;  // texels per side, over the tank floor
+  int caustics_threads = 1;     // CPU threads for the caustics map
+  // The shadow map is redrawn only when an occluder moved relative to the
+  // tank by more than these since the last redraw, or the light changed.
+  double shadow_move_threshold_m = 0.001;
+  double shadow_turn_threshold_rad = 0.5 * 3.14159265358979 / 180.0;
+  // Optics of the water (per metre) and of the scene.
+  glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
+  glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};
+  float shadow_ambient = 0.55f;        // floor brightness in full shadow
+  float reflection_distance_m = 0.3f;  // distance to the reflected scene
+  glm::vec3 obstacle_albedo{0.78f, 0.74f, 0.68f};
+
+  enum class Timing {
+    kNone,        // only CPU-side timings (uploads, caustics)
+    kGpuQueries,  // GL timer queries; Render() waits for their results
+    kCpuFinish,   // glFinish after each pass; wall-clock milliseconds
+  };
+  Timing timing = Timing::kNone;
+
+  bool IsValid(std::string* error) const;
+};
+
+// What the last Render() did and what it cost, milliseconds.
+struct PassTimings {
+  double upload_ms = 0;    // CPU: video and height-field upload calls
+  double shadow_ms = 0;    // shadow pass (0 when skipped)
+  double caustics_ms = 0;  // CPU caustics map + upload (0 when skipped)
+  double main_ms = 0;      // main pass incl. undistortion
+  double total_ms = 0;     // CPU wall time of Render()
+  bool shadow_redrawn = false;
+  bool caustics_recomputed = false;
+  bool surface_uploaded = false;
+  // kGpuQueries: shadow_ms/main_ms are GPU times; kCpuFinish: wall times
+  // with glFinish; kNone: 0.
+  RendererOptions::Timing timing = RendererOptions::Timing::kNone;
+};
+
+class Renderer {
+ public:
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  // Builds shaders and GL objects in `context` (which must be current and
+  // outlive the renderer). The output image has the intrinsics' size.
+  // nullptr with `error` on invalid options or a GL failure.
+  static std::unique_ptr<Renderer> TryCreate(Context* context,
+                                             const Intrinsics& intrinsics,
+                                             const RendererOptions& options,
+                                             std::string* error);
+
+  // Changes the camera; a new size reallocates the output.
+  void SetIntrinsics(const Intrinsics& intrinsics);
+  const Intrinsics& intrinsics() const;
+  const RendererOptions& options() const;
+
+  // Draws one frame into the renderer's FBO. False (with a message on
+  // stderr in debug builds) if GL reported an error.
+  bool Render(const SceneInputs& scene);
+
+  // Copies the last frame as BGR8, top row first, into `bgr` (rows of
+  // `stride_bytes`, 0 = width * 3). Blocks until the frame is finished. Uses
+  // OSMesa's own buffer on OSMesa, a pixel-pack buffer otherwise.
+  bool ReadBgr(std::uint8_t* bgr, int stride_bytes = 0);
+
+  // Shows the last frame in the window (GLFW) and swaps; no-op headless.
+  void Present();
+
+  // Waits until the GPU finished the last frame (for benchmarks).
+  void Finish();
+
+  const PassTimings& timings() const;
+
+  // The matrix the main pass uses: tank frame -> GL clip coordinates.
+  glm::dmat4 ClipFromTank(const glm::dmat4& cam_from_tank) const;
+
+ private:
+  struct Impl;
+  explicit Renderer(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace ripple::render
+
+#endif  // RIPPLE_RENDER_RENDERER_H_

@@ -1,0 +1,57 @@
+// Shared by every Ripple shader; prepended after the #version line.
+// Frames: tank frame (metres, z up, floor z = 0); camera frame is OpenCV's.
+uniform mat4 u_clip_from_tank;   // FBO stores the image top row first
+uniform mat4 u_cam_from_tank;
+uniform vec4 u_intr;             // fx, fy, cx, cy (pixels)
+uniform vec2 u_image_size;       // pixels
+uniform vec3 u_cam_in_tank;      // camera centre
+uniform vec4 u_tank;             // inner size x, y; wall height; rest level
+uniform vec2 u_hf_extent;        // height-field extent nx*d, ny*d (metres)
+uniform vec2 u_hf_texel;         // 1/nx, 1/ny
+uniform sampler2D u_height;      // RGBA32F: displacement from the rest level,
+                                 // dh/dx, dh/dy (per cell, linear filtered)
+uniform vec3 u_light;            // unit vector towards the light
+uniform vec3 u_light_refracted;  // light direction under a flat surface
+uniform mat4 u_shadow_from_tank; // -> shadow map [0,1]^3
+uniform sampler2DShadow u_shadow;
+uniform float u_shadow_on;
+uniform vec2 u_shadow_texel;    // PCF tap offset (texture units)
+uniform float u_shadow_bias;     // depth bias (texture depth units)
+uniform sampler2D u_caustics;    // relative floor irradiance (flat = 1)
+
+vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
+
+float SurfaceZ(vec2 xy) { return u_tank.w + texture(u_height, HeightUv(xy)).r; }
+
+// Texture coordinate of a tank point in the (undistorted) video.
+vec2 VideoUv(vec3 p_tank) {
+  vec3 c = (u_cam_from_tank * vec4(p_tank, 1.0)).xyz;
+  vec2 px = u_intr.xy * c.xy / max(c.z, 1e-4) + u_intr.zw;
+  return (px + 0.5) / u_image_size;
+}
+
+// Percentage-closer filtering: 4 bilinear hardware-compared taps, i.e. a
+// 4x4-texel soft kernel. 1 = lit.
+float Shadow(vec3 p_tank) {
+  if (u_shadow_on < 0.5) return 1.0;
+  vec3 s = (u_shadow_from_tank * vec4(p_tank, 1.0)).xyz;
+  s.z -= u_shadow_bias;
+  if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))))
+    return 1.0;
+  vec2 o = u_shadow_texel;
+  float sum = texture(u_shadow, vec3(s.xy + vec2(-o.x, -o.y), s.z)) +
+              texture(u_shadow, vec3(s.xy + vec2(o.x, -o.y), s.z)) +
+              texture(u_shadow, vec3(s.xy + vec2(-o.x, o.y), s.z)) +
+              texture(u_shadow, vec3(s.xy + vec2(o.x, o.y), s.z));
+  return 0.25 * sum;
+}
+
+// Light reaching a floor point through the water: shadowed where the
+// refracted light path enters the surface (occluders above the water) or
+// along the straight path (occluders under it).
+float FloorShadow(vec3 f) {
+  if (u_shadow_on < 0.5) return 1.0;
+  vec3 s = f - u_light_refracted * (u_tank.w / -u_light_refracted.z);
+  return min(Shadow(s), Shadow(f));
+}
+

@@ -1,0 +1,2 @@
+// Depth only: the shadow map and the pen phantom (colour writes are masked).
+void main() {}

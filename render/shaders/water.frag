@@ -1,0 +1,82 @@
+// Water surface: per-fragment normal from the full-resolution height field,
+// refraction of the real floor in the video (brightened by caustics, darkened
+// by shadow, tinted by the path length through the water), Fresnel-weighted
+// reflection of a map folded from the video (after Ropinski et al.'s virtual
+// reflections), and a specular highlight of the light.
+//
+// Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
+// FLAT_WATER): llvmpipe runs both sides of a branch, so disabled effects
+// must not be in the shader at all.
+in vec3 v_p;
+out vec4 o_color;
+uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
+uniform sampler2D u_reflection;  // small blurred copy, mirrored wrap
+uniform sampler2D u_receiver;    // shadow on floor (r) and surface (g)
+uniform vec3 u_sigma;            // absorption per metre (r, g, b)
+uniform vec3 u_scatter;          // colour of deep water
+uniform float u_ambient;         // floor brightness in full shadow
+uniform float u_env_distance;    // metres to the virtual reflected scene
+
+const float kIor = 1.33;
+
+vec3 EnvLookup(vec3 p, vec3 r) {
+  vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
+  c.z = max(abs(c.z), 0.02);  // fold what lies behind the camera forwards
+  vec2 px = u_intr.xy * c.xy / c.z + u_intr.zw;
+  return texture(u_reflection, (px + 0.5) / u_image_size).rgb;
+}
+
+void main() {
+#ifdef FLAT_WATER
+  o_color = vec4(1.0);
+#else
+  // Height and slope, precomputed per cell: (h, dh/dx, dh/dy).
+  vec3 hs = texture(u_height, HeightUv(v_p.xy)).rgb;
+  vec3 n = normalize(vec3(-hs.y, -hs.z, 1.0));
+  vec3 p = vec3(v_p.xy, u_tank.w + hs.x);
+  vec3 v = normalize(p - u_cam_in_tank);
+  vec2 tank_uv = p.xy / u_tank.xy + 0.5;
+
+  // Refraction (Snell, air to water) to the floor or a wall.
+#ifdef REFRACTION
+  vec3 t = refract(v, n, 1.0 / kIor);
+#else
+  vec3 t = v;
+#endif
+  vec2 half_size = 0.5 * u_tank.xy;
+  float tf = t.z < -1e-5 ? -p.z / t.z : 1e3;
+  float tx = abs(t.x) > 1e-6 ? (sign(t.x) * half_size.x - p.x) / t.x : 1e3;
+  float ty = abs(t.y) > 1e-6 ? (sign(t.y) * half_size.y - p.y) / t.y : 1e3;
+  float tw = max(min(tx, ty), 0.0);
+  float th = min(tf, tw);
+  vec3 f = p + t * th;
+  vec3 base = texture(u_scene, VideoUv(f)).rgb;
+  float lit = 1.0;
+  vec2 floor_uv = f.xy / u_tank.xy + 0.5;
+#ifdef SHADOWS
+  lit *= texture(u_receiver, floor_uv).r;
+#endif
+#ifdef CAUSTICS
+  lit *= texture(u_caustics, floor_uv).r;
+#endif
+#if defined(SHADOWS) || defined(CAUSTICS)
+  if (tf <= tw) base *= u_ambient + (1.0 - u_ambient) * lit;
+#endif
+  vec3 transmit = exp(-u_sigma * th);
+  vec3 color = base * transmit + u_scatter * (1.0 - transmit);
+
+  vec3 r = reflect(v, n);
+#ifdef REFLECTION
+  float cos_v = max(dot(-v, n), 0.0);
+  float fresnel = 0.02 + 0.98 * pow(1.0 - cos_v, 5.0);  // Schlick
+  color = mix(color, EnvLookup(p, r), fresnel);
+#endif
+#ifdef SHADOWS
+  float sun = texture(u_receiver, tank_uv).g;
+#else
+  float sun = 1.0;
+#endif
+  color += pow(max(dot(r, u_light), 0.0), 300.0) * 1.5 * sun;
+  o_color = vec4(color, 1.0);
+#endif
+}

@@ -1,0 +1,131 @@
+// Whole-frame cost on the GL backends (EGL/llvmpipe headless by default):
+// 640x480 output, a 128x128 simulation over a 17 cm square tank. Each
+// iteration renders and waits for the GPU (glFinish); readback is measured
+// separately. LP_NUM_THREADS=2 reproduces the issue's "2 cores".
+//
+//   build-render/tests/render/render_frame_benchmark
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <vector>
+
+#include "render/renderer.h"
+#include "tests/render/render_test_util.h"
+
+namespace ripple::render {
+namespace {
+
+constexpr int kW = 640, kH = 480, kN = 128;
+
+// The machine is shared: report the least-disturbed repetition too.
+double MinOf(const std::vector<double>& v) {
+  return *std::min_element(v.begin(), v.end());
+}
+
+struct Fixture {
+  std::unique_ptr<Context> ctx;
+  std::unique_ptr<Renderer> renderer;
+  testing::TestScene scene;
+  std::vector<float> heights;
+};
+
+std::unique_ptr<Fixture> Make(benchmark::State& state, Backend backend) {
+  auto f = std::make_unique<Fixture>();
+  std::string error;
+  f->ctx = Context::TryCreate(backend, kW, kH, &error, false);
+  if (f->ctx == nullptr) {
+    state.SkipWithError(("no GL context: " + error).c_str());
+    return nullptr;
+  }
+  f->scene = testing::MakeScene(kW, kH, testing::View::kFront, true);
+  f->scene.inputs.tank.size_y = f->scene.inputs.tank.size_x;
+  const float d = f->scene.inputs.tank.size_x / kN;
+  f->heights.assign(kN * kN, 0.0f);
+  for (int j = 0; j < kN; ++j) {
+    for (int i = 0; i < kN; ++i) {
+      const double x = (i - 0.5 * kN) * d, y = (j - 0.5 * kN) * d;
+      const double r = std::hypot(x - 0.02, y);
+      f->heights[j * kN + i] = static_cast<float>(0.0015 * std::cos(r / 0.002) *
+                                                  std::exp(-r * r / 0.0004));
+    }
+  }
+  f->scene.inputs.water = {f->heights.data(), kN, kN, d, 1};
+  f->scene.inputs.pen_visible = true;
+  // Pen upright (its +z is away from the tip), tip 5 mm under the surface.
+  f->scene.inputs.tank_from_pen[3] = glm::dvec4(0.03, 0.0, 0.16, 1.0);
+  Obstacle pillar;
+  pillar.tank_from_obstacle[3] = glm::dvec4(0.045, 0.015, 0.0, 1.0);
+  f->scene.inputs.obstacles.push_back(pillar);
+  f->renderer = Renderer::TryCreate(f->ctx.get(), f->scene.k, {}, &error);
+  if (f->renderer == nullptr) {
+    state.SkipWithError(error.c_str());
+    return nullptr;
+  }
+  state.SetLabel(f->ctx->Description());
+  return f;
+}
+
+// What changes between frames.
+enum Mode : int {
+  kMainOnly = 0,  // issue 5: shadow and caustics off, water changes
+  kFullChanging,  // issue 6: all passes, water and pen change every frame
+  kFullIdle,      // water at rest, pen still: shadow/caustics skipped
+};
+
+void BM_Frame(benchmark::State& state) {
+  const Mode mode = static_cast<Mode>(state.range(0));
+  const Backend backend = static_cast<Backend>(state.range(1));
+  auto f = Make(state, backend);
+  if (!f) return;
+  SceneInputs& in = f->scene.inputs;
+  in.effects.shadows = in.effects.caustics = mode != kMainOnly;
+  f->renderer->Render(in);
+  f->renderer->Finish();
+  double shadow = 0, caustics = 0, frames = 0;
+  for (auto _ : state) {
+    if (mode != kFullIdle) {
+      in.water.change_counter++;
+      in.tank_from_pen[3].x += (int(frames) % 2 ? -0.002 : 0.002);
+    }
+    f->renderer->Render(in);
+    f->renderer->Finish();
+    shadow += f->renderer->timings().shadow_redrawn;
+    caustics += f->renderer->timings().caustics_ms;
+    ++frames;
+  }
+  state.counters["shadow_redraws_per_frame"] = shadow / frames;
+  state.counters["caustics_cpu_ms"] = caustics / frames;
+}
+BENCHMARK(BM_Frame)
+    ->ArgNames({"mode", "backend"})
+    ->Args({kMainOnly, int(Backend::kEgl)})
+    ->Args({kFullChanging, int(Backend::kEgl)})
+    ->Args({kFullIdle, int(Backend::kEgl)})
+    ->Args({kMainOnly, int(Backend::kOsmesa)})
+    ->Args({kFullChanging, int(Backend::kOsmesa)})
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+void BM_ReadBgr(benchmark::State& state) {
+  auto f = Make(state, static_cast<Backend>(state.range(0)));
+  if (!f) return;
+  std::vector<std::uint8_t> out(kW * kH * 3);
+  f->renderer->Render(f->scene.inputs);
+  for (auto _ : state) {
+    f->renderer->ReadBgr(out.data());
+    benchmark::DoNotOptimize(out.data());
+  }
+}
+BENCHMARK(BM_ReadBgr)
+    ->ArgNames({"backend"})
+    ->Arg(int(Backend::kEgl))
+    ->Arg(int(Backend::kOsmesa))
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+}  // namespace
+}  // namespace ripple::render

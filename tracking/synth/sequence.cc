@@ -47,7 +47,7 @@ bool GetPreset(const std::string& name, Preset* p) {
     return true;
   }
   if (name == "demo") {
-    p->distance_m = {0.45, 0.45};
+    p->distance_m = {0.36, 0.36};
     p->elevation_deg = {55, 55};
     p->defocus_px = {0.5, 0.5};
     p->read_noise_dn = {2, 2};

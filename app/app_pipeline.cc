@@ -1,0 +1,244 @@
+#include "app/app_pipeline.h"
+
+#include <chrono>
+
+namespace ripple::app {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double MsSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+glm::dmat4 ToGlm(const tracking::Pose& pose) {
+  const Eigen::Matrix4d m = pose.Matrix();
+  glm::dmat4 g(1.0);
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) g[c][r] = m(r, c);
+  return g;
+}
+
+sim::RigidTransform ToSim(const tracking::Pose& pose) {
+  sim::RigidTransform t;
+  const Eigen::Matrix3d r = pose.R();
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) t.rotation[3 * i + j] = r(i, j);
+  for (int i = 0; i < 3; ++i) t.translation[i] = pose.translation[i];
+  return t;
+}
+
+// Where removed obstacles are parked: far outside any tank.
+const tracking::Pose kParked(Eigen::Quaterniond::Identity(),
+                             Eigen::Vector3d(1e3, 1e3, 0));
+
+}  // namespace
+
+bool PipelineOptions::IsValid(std::string* error) const {
+  if (!tracker.IsValid(error)) return false;
+  if (!water.IsValid(error)) return false;
+  if (!renderer.IsValid(error)) return false;
+  if (sim_cells_x < 2 || sim_cells_x > 4096) {
+    if (error) *error = "--sim-cells must be in [2, 4096]";
+    return false;
+  }
+  return true;
+}
+
+Pipeline::~Pipeline() {
+  // GL objects die before their context.
+  renderer_.reset();
+  context_.reset();
+}
+
+std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
+                                           const tracking::Rig& rig,
+                                           const PipelineOptions& options,
+                                           std::string* error) {
+  if (!options.IsValid(error)) return nullptr;
+  std::unique_ptr<Pipeline> p(new Pipeline());
+  p->camera_ = camera;
+  p->rig_ = rig;
+  p->options_ = options;
+  p->tracker_ =
+      std::make_unique<tracking::Tracker>(camera, rig, options.tracker);
+
+  const sim::GridSpec grid =
+      sim::GridSpec::ForTank(rig.tank.size_x_m, rig.tank.size_y_m,
+                             rig.tank.water_level_m, options.sim_cells_x);
+  if (!grid.IsValid(error)) return nullptr;
+  p->water_ = std::make_unique<sim::BasicWater<float>>(grid, options.water);
+
+  // The rig's obstacles: in the sim (all shapes) and drawn (box, cylinder).
+  for (const tracking::ObstacleSpec& spec : rig.obstacles) {
+    tracking::Pose tank_from_obstacle = spec.parent_from_obstacle;
+    if (spec.attached_tag >= 0)
+      tank_from_obstacle = rig.FindTankTag(spec.attached_tag)->object_from_tag *
+                           spec.parent_from_obstacle;
+    sim::Obstacle o;
+    o.tank_from_obstacle = ToSim(tank_from_obstacle);
+    render::Obstacle r;
+    bool drawn = true;
+    switch (spec.shape) {
+      case tracking::ObstacleSpec::Shape::kBox:
+        o.shape = sim::Obstacle::Shape::kBox;
+        o.box_size_m = {spec.box_size_m.x(), spec.box_size_m.y(),
+                        spec.box_size_m.z()};
+        r.shape = render::Obstacle::Shape::kBox;
+        r.size = glm::vec3(spec.box_size_m.x(), spec.box_size_m.y(),
+                           spec.box_size_m.z());
+        // The renderer's box stands on its origin; the rig's is centred.
+        r.tank_from_obstacle = ToGlm(
+            tank_from_obstacle *
+            tracking::Pose(Eigen::Quaterniond::Identity(),
+                           Eigen::Vector3d(0, 0, -0.5 * spec.box_size_m.z())));
+        break;
+      case tracking::ObstacleSpec::Shape::kCylinder:
+        o.shape = sim::Obstacle::Shape::kCylinder;
+        o.radius_m = spec.radius_m;
+        o.height_m = spec.height_m;
+        r.shape = render::Obstacle::Shape::kCylinder;
+        r.size = glm::vec3(spec.radius_m, spec.radius_m, spec.height_m);
+        r.tank_from_obstacle = ToGlm(tank_from_obstacle);
+        break;
+      case tracking::ObstacleSpec::Shape::kVoxels: {
+        o.shape = sim::Obstacle::Shape::kVoxels;
+        auto volume = std::make_shared<sim::VoxelVolume>();
+        if (!sim::LoadVoxelVolume(spec.voxel_file, spec.voxel_size_m,
+                                  volume.get(), error))
+          return nullptr;
+        o.voxels = volume;
+        drawn = false;  // voxel volumes shape the water but are not drawn
+        break;
+      }
+    }
+    if (p->water_->AddObstacle(o, error) < 0) return nullptr;
+    p->sim_obstacles_.push_back(o);
+    if (drawn) p->render_obstacles_.push_back(r);
+  }
+
+  p->context_ = render::Context::TryCreate(
+      options.backend, camera.width, camera.height, error, options.window);
+  if (!p->context_) return nullptr;
+  render::Intrinsics k;
+  k.width = camera.width;
+  k.height = camera.height;
+  k.fx = camera.fx;
+  k.fy = camera.fy;
+  k.cx = camera.cx;
+  k.cy = camera.cy;
+  k.dist = camera.dist;
+  p->renderer_ = render::Renderer::TryCreate(p->context_.get(), k,
+                                             options.renderer, error);
+  if (!p->renderer_) return nullptr;
+
+  render::SceneInputs& s = p->scene_;
+  s.tank.size_x = static_cast<float>(rig.tank.size_x_m);
+  s.tank.size_y = static_cast<float>(rig.tank.size_y_m);
+  s.tank.wall_height = static_cast<float>(rig.tank.wall_height_m);
+  s.tank.water_level = static_cast<float>(rig.tank.water_level_m);
+  if (rig.pen) {
+    s.pen.cube_edge = static_cast<float>(rig.pen->cube_edge_m);
+    s.pen.shaft_radius = static_cast<float>(rig.pen->shaft_radius_m);
+    s.pen.shaft_length = static_cast<float>(rig.pen->shaft_length_m);
+  }
+  p->composite_.create(camera.height, camera.width, CV_8UC3);
+  return p;
+}
+
+bool Pipeline::AddObstacleAt(double x_m, double y_m, std::string* error) {
+  sim::Obstacle o;
+  o.shape = sim::Obstacle::Shape::kCylinder;
+  o.radius_m = 0.01;
+  o.height_m = rig_.tank.wall_height_m * 1.2;
+  o.tank_from_obstacle = sim::RigidTransform::FromTranslation(x_m, y_m, 0);
+  if (water_->AddObstacle(o, error) < 0) return false;
+  sim_obstacles_.push_back(o);
+  render::Obstacle r;
+  r.shape = render::Obstacle::Shape::kCylinder;
+  r.size = glm::vec3(o.radius_m, o.radius_m, o.height_m);
+  r.tank_from_obstacle = glm::dmat4(1.0);
+  r.tank_from_obstacle[3] = glm::dvec4(x_m, y_m, 0, 1);
+  render_obstacles_.push_back(r);
+  return true;
+}
+
+bool Pipeline::RemoveLastObstacle() {
+  // The water cannot forget an obstacle, so it is parked far outside the
+  // grid (its mask is recomputed once, as for any move).
+  for (int id = water_->num_obstacles() - 1; id >= 0; --id) {
+    const sim::RigidTransform parked = ToSim(kParked);
+    if (sim_obstacles_[id].tank_from_obstacle == parked) continue;
+    sim_obstacles_[id].tank_from_obstacle = parked;
+    water_->SetObstaclePose(id, parked);
+    if (!render_obstacles_.empty()) render_obstacles_.pop_back();
+    return true;
+  }
+  return false;
+}
+
+FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
+                              bool read_back) {
+  FrameReport report;
+  const auto t0 = Clock::now();
+  report.times.cap = cap_ms;
+
+  // Tracking.
+  report.tracking = tracker_->Track(bgr, time_s);
+  const tracking::FrameResult& tr = report.tracking;
+  report.times.det = tr.timings.detect_ms;
+  report.times.pose = tr.timings.pose_ms;
+
+  // Interaction and water.
+  const auto t_sim = Clock::now();
+  if (tr.tip_in_tank && tr.pen.status == tracking::TrackStatus::kTracked) {
+    water_->SetPenTip(
+        {tr.tip_in_tank->x(), tr.tip_in_tank->y(), tr.tip_in_tank->z()});
+  } else {
+    water_->ClearPen();
+  }
+  const double dt = have_time_ ? std::max(0.0, time_s - last_time_s_) : 0.0;
+  last_time_s_ = time_s;
+  have_time_ = true;
+  water_->Advance(dt);
+  report.water = water_->stats();
+  report.times.sim = MsSince(t_sim);
+
+  // Render.
+  const auto t_render = Clock::now();
+  if (tr.tank.has_pose()) {
+    scene_.video = {bgr.data, bgr.cols, bgr.rows, static_cast<int>(bgr.step)};
+    scene_.cam_from_tank = ToGlm(*tr.tank.cam_from_object);
+    const sim::HeightFieldView view = water_->View();
+    scene_.water.heights = view.heights;
+    scene_.water.nx = view.nx;
+    scene_.water.ny = view.ny;
+    scene_.water.cell_size = static_cast<float>(view.cell_m);
+    scene_.water.change_counter = view.counter;
+    scene_.pen_visible = tr.pen.has_pose() && rig_.pen.has_value();
+    if (scene_.pen_visible)
+      scene_.tank_from_pen =
+          ToGlm(tr.tank.cam_from_object->Inverse() * *tr.pen.cam_from_object);
+    scene_.obstacles = render_obstacles_;
+    scene_.effects = options_.effects;
+    renderer_->Render(scene_);
+    report.passes = renderer_->timings();
+    report.rendered = true;
+    if (read_back) {
+      renderer_->ReadBgr(composite_.data, static_cast<int>(composite_.step));
+    } else {
+      renderer_->Finish();
+    }
+    report.times.shadow = report.passes.shadow_ms;
+    report.times.caustics = report.passes.caustics_ms;
+    report.times.drw = std::max(
+        0.0, MsSince(t_render) - report.times.shadow - report.times.caustics);
+  } else if (read_back) {
+    // Nothing to register the water to: the video passes through.
+    bgr.copyTo(composite_);
+    report.times.drw = MsSince(t_render);
+  }
+  report.times.total = MsSince(t0);
+  return report;
+}
+
+}  // namespace ripple::app

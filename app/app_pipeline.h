@@ -1,0 +1,95 @@
+// One frame of Ripple, as data flows (DESIGN.md): tracking -> interaction ->
+// water -> render, with per-stage timings. live, replay and demo all drive
+// this same pipeline; only the frame source and the output differ.
+#ifndef RIPPLE_APP_APP_PIPELINE_H_
+#define RIPPLE_APP_APP_PIPELINE_H_
+
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "app/app_timing.h"
+#include "render/context.h"
+#include "render/renderer.h"
+#include "sim/water.h"
+#include "tracking/camera.h"
+#include "tracking/rig.h"
+#include "tracking/tracker.h"
+
+namespace ripple::app {
+
+struct PipelineOptions {
+  tracking::TrackerOptions tracker;
+  sim::WaterOptions water;
+  int sim_cells_x = 128;  // simulation cells along the tank's long side
+  render::RendererOptions renderer;
+  render::Effects effects;
+  render::Backend backend = render::Backend::kEgl;
+  bool window = false;  // GLFW: show a window (live)
+
+  bool IsValid(std::string* error) const;
+};
+
+struct FrameReport {
+  tracking::FrameResult tracking;
+  sim::AdvanceStats water;
+  render::PassTimings passes;
+  StageTimes times;
+  bool rendered = false;  // false when the tank was not seen: video only
+};
+
+class Pipeline {
+ public:
+  // Builds tracker, water (with the rig's obstacles) and renderer; nullptr
+  // with `error` on bad options, a bad obstacle or no GL context.
+  static std::unique_ptr<Pipeline> Create(const tracking::Camera& camera,
+                                          const tracking::Rig& rig,
+                                          const PipelineOptions& options,
+                                          std::string* error);
+  ~Pipeline();
+
+  // Processes one BGR frame taken at `time_s` (seconds, from the source's
+  // timestamps; the water advances by the difference to the last frame).
+  // With `read_back`, composite() holds the finished frame afterwards.
+  FrameReport Process(const cv::Mat& bgr, double time_s, double cap_ms,
+                      bool read_back);
+  const cv::Mat& composite() const { return composite_; }
+
+  // Interactive controls (live keys).
+  sim::BasicWater<float>& water() { return *water_; }
+  render::Effects& effects() { return options_.effects; }
+  render::Renderer& renderer() { return *renderer_; }
+  render::Context& context() { return *context_; }
+  tracking::Tracker& tracker() { return *tracker_; }
+  const tracking::Rig& rig() const { return rig_; }
+  // Adds a cylinder obstacle at a tank-frame point (metres); false if it
+  // could not be placed.
+  bool AddObstacleAt(double x_m, double y_m, std::string* error);
+  // Removes the most recently added obstacle (rig obstacles included).
+  bool RemoveLastObstacle();
+  int num_obstacles() const {
+    return static_cast<int>(render_obstacles_.size());
+  }
+
+ private:
+  Pipeline() = default;
+  bool RebuildWater(std::string* error);
+
+  tracking::Camera camera_;
+  tracking::Rig rig_;
+  PipelineOptions options_;
+  std::unique_ptr<tracking::Tracker> tracker_;
+  std::unique_ptr<sim::BasicWater<float>> water_;
+  std::unique_ptr<render::Context> context_;
+  std::unique_ptr<render::Renderer> renderer_;
+  std::vector<sim::Obstacle> sim_obstacles_;
+  std::vector<render::Obstacle> render_obstacles_;
+  render::SceneInputs scene_;
+  cv::Mat composite_;
+  double last_time_s_ = 0;
+  bool have_time_ = false;
+};
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_PIPELINE_H_

@@ -129,6 +129,99 @@ void StepGrid(RIPPLE_STEP_ARGS) {
 #undef RIPPLE_STEP_ARGS
 #undef RIPPLE_STEP_PASS
 
+// Sums over the grid for the statistics (see ComputeStats).
+struct Sums {
+  double vol, absvol, maxabs, maxu, hmin, hmax, uu, usum, ehh, euh;
+};
+
+template <typename T>
+__attribute__((always_inline)) inline Sums SumGridImpl(int nx, int ny,
+                                                       const T* h0, const T* u0,
+                                                       const T* mask,
+                                                       const T* ones,
+                                                       bool reflect_mask) {
+  double vol = 0, absvol = 0, maxabs = 0, maxu = 0;
+  double hmin = std::numeric_limits<double>::infinity();
+  double hmax = -hmin;
+  double uu = 0, ehh = 0, euh = 0, usum = 0;
+  // Zero treatment: blocked cells hold 0, so summing every edge gives the
+  // Dirichlet form; the reflecting treatment counts water-water edges only
+  // (weights from the mask; otherwise a row of ones).
+  const double inf = std::numeric_limits<double>::infinity();
+  for (int j = 0; j < ny; ++j) {
+    const size_t r = static_cast<size_t>(j) * nx;
+    const T* h = h0 + r;
+    const T* u = u0 + r;
+    const T* m = mask + r;
+    // The row above; the last row pairs with itself (zero differences).
+    const size_t up = j + 1 < ny ? nx : 0;
+    const T* wm = reflect_mask ? m : ones;
+    const T* wm_up = reflect_mask ? m + up : ones;
+    // Right-hand edges exist for i < nx - 1; the last cell is done after.
+#pragma omp simd reduction(+ : vol, absvol, uu, usum, ehh, euh) \
+    reduction(max : maxabs, maxu, hmax) reduction(min : hmin)
+    for (int i = 0; i < nx - 1; ++i) {
+      const double hi = h[i], ui = u[i], mi = m[i];
+      vol += mi * hi;
+      absvol += mi * std::abs(hi);
+      maxabs = std::max(maxabs, mi * std::abs(hi));
+      hmin = std::min(hmin, mi != 0 ? hi : inf);
+      hmax = std::max(hmax, mi != 0 ? hi : -inf);
+      maxu = std::max(maxu, std::abs(ui));
+      uu += ui * ui;
+      usum += ui;
+      const double wr = double(wm[i]) * wm[i + 1];
+      const double dh = double(h[i + 1]) - hi, du = double(u[i + 1]) - ui;
+      const double wu = double(wm[i]) * wm_up[i];
+      const double dhu = double(h[i + up]) - hi, duu = double(u[i + up]) - ui;
+      ehh += wr * dh * dh + wu * dhu * dhu;
+      euh += wr * du * dh + wu * duu * dhu;
+    }
+    const int i = nx - 1;
+    const double hi = h[i], ui = u[i], mi = m[i];
+    vol += mi * hi;
+    absvol += mi * std::abs(hi);
+    maxabs = std::max(maxabs, mi * std::abs(hi));
+    if (mi != 0) {
+      hmin = std::min(hmin, hi);
+      hmax = std::max(hmax, hi);
+    }
+    maxu = std::max(maxu, std::abs(ui));
+    uu += ui * ui;
+    usum += ui;
+    const double wu = double(wm[i]) * wm_up[i];
+    const double dhu = double(h[i + up]) - hi, duu = double(u[i + up]) - ui;
+    ehh += wu * dhu * dhu;
+    euh += wu * duu * dhu;
+  }
+  return {vol, absvol, maxabs, maxu, hmin, hmax, uu, usum, ehh, euh};
+}
+
+template <typename T>
+Sums SumGridBase(int nx, int ny, const T* h0, const T* u0, const T* mask,
+                 const T* ones, bool reflect_mask) {
+  return SumGridImpl<T>(nx, ny, h0, u0, mask, ones, reflect_mask);
+}
+#if defined(__x86_64__) && defined(__GNUC__)
+template <typename T>
+__attribute__((target("avx2"))) Sums SumGridAvx2(int nx, int ny, const T* h0,
+                                                 const T* u0, const T* mask,
+                                                 const T* ones,
+                                                 bool reflect_mask) {
+  return SumGridImpl<T>(nx, ny, h0, u0, mask, ones, reflect_mask);
+}
+#endif
+
+template <typename T>
+Sums SumGrid(int nx, int ny, const T* h0, const T* u0, const T* mask,
+             const T* ones, bool reflect_mask) {
+#if defined(__x86_64__) && defined(__GNUC__)
+  if (HasAvx2())
+    return SumGridAvx2<T>(nx, ny, h0, u0, mask, ones, reflect_mask);
+#endif
+  return SumGridBase<T>(nx, ny, h0, u0, mask, ones, reflect_mask);
+}
+
 }  // namespace
 
 GridSpec GridSpec::ForTank(double size_x_m, double size_y_m,
@@ -541,45 +634,11 @@ void BasicWater<T>::ComputeStats() {
   const int nx = grid_.nx, ny = grid_.ny;
   const bool reflect_mask = num_water_ < static_cast<int>(h_.size()) &&
                             options_.obstacles == ObstacleMode::kReflect;
-  double vol = 0, absvol = 0, maxabs = 0, maxu = 0;
-  double hmin = std::numeric_limits<double>::infinity();
-  double hmax = -hmin;
-  double uu = 0, ehh = 0, euh = 0, usum = 0;
-  for (int j = 0; j < ny; ++j) {
-    const size_t r = static_cast<size_t>(j) * nx;
-    const T* h = h_.data() + r;
-    const T* u = u_.data() + r;
-    const std::uint8_t* w = water_.data() + r;
-    const T* m = mask_.data() + r;
-    for (int i = 0; i < nx; ++i) {
-      const double hi = h[i], ui = u[i];
-      if (w[i]) {
-        vol += hi;
-        absvol += std::abs(hi);
-        maxabs = std::max(maxabs, std::abs(hi));
-        hmin = std::min(hmin, hi);
-        hmax = std::max(hmax, hi);
-        maxu = std::max(maxu, std::abs(ui));
-        uu += ui * ui;
-        usum += ui;
-      }
-      // Edges to the right and up. Zero treatment: blocked cells hold 0, so
-      // summing every edge gives the Dirichlet form; reflecting treatment
-      // counts only water-water edges.
-      if (i + 1 < nx) {
-        const double wgt = reflect_mask ? double(m[i]) * m[i + 1] : 1.0;
-        const double dh = double(h[i + 1]) - hi, du = double(u[i + 1]) - ui;
-        ehh += wgt * dh * dh;
-        euh += wgt * du * dh;
-      }
-      if (j + 1 < ny) {
-        const double wgt = reflect_mask ? double(m[i]) * m[i + nx] : 1.0;
-        const double dh = double(h[i + nx]) - hi, du = double(u[i + nx]) - ui;
-        ehh += wgt * dh * dh;
-        euh += wgt * du * dh;
-      }
-    }
-  }
+  const Sums sums = SumGrid<T>(nx, ny, h_.data(), u_.data(), mask_.data(),
+                               ones_.data(), reflect_mask);
+  const double vol = sums.vol, absvol = sums.absvol, maxabs = sums.maxabs,
+               maxu = sums.maxu, hmin = sums.hmin, hmax = sums.hmax,
+               uu = sums.uu, usum = sums.usum, ehh = sums.ehh, euh = sums.euh;
   const double d2 = grid_.cell_m * grid_.cell_m;
   const double k = static_cast<double>(k_);
   stats_.volume_m3 = vol * d2;

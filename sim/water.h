@@ -79,7 +79,7 @@ struct WaterOptions {
   // a uniform upward compensation over the water so volume is conserved.
   // s, m/s^2, in [0, 1e12]. (A negative s would pull the surface up onto
   // a submerged tip and keep it there: a runaway, so it is refused.)
-  double pen_strength_m_per_s2 = 20.0;
+  double pen_strength_m_per_s2 = 5.0;
   // r, metres; small r gives high frequencies. The Gaussian's sigma is
   // max(0.2*r, cell/2) so that a tip between cell centres is never lost.
   double pen_radius_m = 0.01;

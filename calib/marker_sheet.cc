@@ -1,0 +1,723 @@
+#include "calib/marker_sheet.h"
+
+#include <cairo-pdf.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+
+#include "calib/calib_io.h"
+#include "calib/tip_check.h"
+#include "tracking/tag_family.h"
+
+namespace ripple::calib {
+namespace {
+
+using Box = Eigen::AlignedBox2d;
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+
+constexpr double kMm = 1e-3;
+constexpr double kLabelSize = 2.2 * kMm;  // tag id labels
+constexpr double kTextSize = 3.0 * kMm;
+
+Eigen::Matrix2d Rot2(double a) {
+  Eigen::Matrix2d r;
+  r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+  return r;
+}
+
+double TextWidth(const std::string& s, double size) {
+  return 0.56 * size * s.size();
+}
+
+Box BoxOf(std::initializer_list<Vector2d> points) {
+  Box b;
+  for (const Vector2d& p : points) b.extend(p);
+  return b;
+}
+
+Box TextBox(const SheetText& t) {
+  const Eigen::Matrix2d r = Rot2(t.angle_rad);
+  const double hw = 0.5 * TextWidth(t.text, t.size_m), hh = 0.5 * t.size_m;
+  return BoxOf({t.at + r * Vector2d(-hw, -hh), t.at + r * Vector2d(hw, -hh),
+                t.at + r * Vector2d(hw, hh), t.at + r * Vector2d(-hw, hh)});
+}
+
+struct FamilyInfo {
+  int total = 10, border = 8;
+};
+
+bool GetFamily(const std::string& name, FamilyInfo* info, std::string* error) {
+  auto family = tracking::TagFamily::Create(name);
+  if (!family) {
+    *error = "unknown tag family '" + name + "'";
+    return false;
+  }
+  info->total = family->total_width();
+  info->border = family->width_at_border();
+  return true;
+}
+
+// The tag's id label (text) for a tag placed on a sheet.
+SheetText TagLabel(const SheetTag& tag, const FamilyInfo& f) {
+  const double cell = tag.edge_m / f.border;
+  const double half = 0.5 * f.total * cell;
+  const Vector2d dir = tag.label_dir.normalized();
+  SheetText t;
+  t.text = "id " + std::to_string(tag.id);
+  t.size_m = kLabelSize;
+  const double along = std::abs(dir.x()) > 0.5
+                           ? 0.5 * TextWidth(t.text, t.size_m)
+                           : 0.5 * t.size_m;
+  t.at = tag.centre_m +
+         Rot2(tag.angle_rad) *
+             (dir * (half + 0.6 * kMm + tag.label_offset_m + along));
+  t.angle_rad = tag.angle_rad;
+  return t;
+}
+
+// The tag with its white margin and its label.
+Box TagBox(const SheetTag& tag, const FamilyInfo& f) {
+  const double half = 0.5 * f.total * tag.edge_m / f.border;
+  const Eigen::Matrix2d r = Rot2(tag.angle_rad);
+  Box b = BoxOf({tag.centre_m + r * Vector2d(-half, -half),
+                 tag.centre_m + r * Vector2d(half, -half),
+                 tag.centre_m + r * Vector2d(half, half),
+                 tag.centre_m + r * Vector2d(-half, half)});
+  b.extend(TextBox(TagLabel(tag, f)));
+  return b;
+}
+
+bool Overlaps(const Box& b, const std::vector<Box>& occupied) {
+  for (const Box& o : occupied)
+    if (b.intersects(o)) return true;
+  return false;
+}
+
+// Finds a free place for a w x h box on the page, nearest to `prefer` (its
+// centre); false when nothing fits.
+bool PlaceBox(const Sheet& sheet, const std::vector<Box>& occupied, double w,
+              double h, const Vector2d& prefer, Box* placed) {
+  const double step = 1.0 * kMm, gap = 1.5 * kMm;
+  double best = 1e9;
+  for (double y = kSheetMargin; y + h <= sheet.height_m - kSheetMargin;
+       y += step) {
+    for (double x = kSheetMargin; x + w <= sheet.width_m - kSheetMargin;
+         x += step) {
+      const Box b(Vector2d(x, y), Vector2d(x + w, y + h));
+      const Box padded(b.min() - Vector2d(gap, gap),
+                       b.max() + Vector2d(gap, gap));
+      if (Overlaps(padded, occupied)) continue;
+      const double d = (b.center() - prefer).norm();
+      if (d < best) best = d, *placed = b;
+    }
+  }
+  return best < 1e9;
+}
+
+// 100 mm scale bar (ten 10 mm blocks) with its caption; horizontal or
+// vertical. Adds its shapes and its box to `occupied`. False if it fits
+// nowhere.
+bool AddScaleBar(Sheet* sheet, std::vector<Box>* occupied,
+                 const Vector2d& prefer) {
+  const double len = 100 * kMm, bar = 2.5 * kMm;
+  const std::string caption = "100 mm - check with a ruler: print at 100 %";
+  const double depth = bar + 1.0 * kMm + kLabelSize;
+  for (int vertical = 0; vertical < 2; ++vertical) {
+    const double w = vertical ? depth : len, h = vertical ? len : depth;
+    Box b;
+    if (!PlaceBox(*sheet, *occupied, w, h, prefer, &b)) continue;
+    const Vector2d o = b.min();
+    for (int i = 0; i < 10; ++i) {
+      const double s = i * 10 * kMm, e = (i + 1) * 10 * kMm;
+      const Box block = vertical
+                            ? Box(o + Vector2d(0, s), o + Vector2d(bar, e))
+                            : Box(o + Vector2d(s, 0), o + Vector2d(e, bar));
+      if (i % 2 == 0) sheet->black_boxes.push_back(block);
+    }
+    const Vector2d c0 = o, c1 = vertical ? o + Vector2d(bar, len)
+                                         : o + Vector2d(len, bar);
+    const Vector2d c01(c1.x(), c0.y()), c10(c0.x(), c1.y());
+    for (auto [p, q] : {std::pair{c0, c01}, std::pair{c01, c1},
+                        std::pair{c1, c10}, std::pair{c10, c0}})
+      sheet->lines.push_back({p, q, SheetLine::Style::kThin});
+    SheetText t;
+    t.text = caption;
+    t.size_m = kLabelSize;
+    if (vertical) {
+      t.at = o + Vector2d(bar + 1.0 * kMm + 0.5 * kLabelSize, 0.5 * len);
+      t.angle_rad = -M_PI / 2;
+    } else {
+      t.at = o + Vector2d(0.5 * len, bar + 1.0 * kMm + 0.5 * kLabelSize);
+    }
+    sheet->texts.push_back(t);
+    occupied->push_back(b);
+    return true;
+  }
+  return false;
+}
+
+// A line of text somewhere free near `prefer` (skipped if nowhere).
+void AddFreeText(Sheet* sheet, std::vector<Box>* occupied,
+                 const std::string& text, double size, const Vector2d& prefer) {
+  Box b;
+  const double w = TextWidth(text, size), h = size;
+  if (!PlaceBox(*sheet, *occupied, w, h, prefer, &b)) return;
+  sheet->texts.push_back({b.center(), text, size, 0.0});
+  occupied->push_back(b);
+}
+
+std::string Millimetres(double m) {
+  char s[32];
+  std::snprintf(s, sizeof(s), "%g", std::round(m * 1e4) / 10);
+  return s;
+}
+
+}  // namespace
+
+PaperSize PaperA4() { return {"a4", 0.210, 0.297}; }
+PaperSize PaperLetter() { return {"letter", 0.2159, 0.2794}; }
+
+Vector2d SheetTag::Corner(int k) const {
+  static const double kSign[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+  return centre_m + Rot2(angle_rad) * Vector2d(0.5 * edge_m * kSign[k][0],
+                                               0.5 * edge_m * kSign[k][1]);
+}
+
+Vector3d NetFace::PenPoint(const Vector2d& on_sheet) const {
+  const Vector2d d = on_sheet - centre_m;
+  return 0.5 * edge_m * normal_in_pen + pen_from_page.col(0) * d.x() +
+         pen_from_page.col(1) * d.y();
+}
+
+bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
+                    Sheet* sheet, std::string* error) {
+  FamilyInfo f;
+  if (!GetFamily(rig.family, &f, error)) return false;
+  if (rig.tank_tags.empty()) {
+    *error = "the rig has no tank tags";
+    return false;
+  }
+  *sheet = Sheet();
+  sheet->family = rig.family;
+  sheet->width_m = paper.height_m;  // landscape
+  sheet->height_m = paper.width_m;
+  const Vector2d centre(0.5 * sheet->width_m, 0.5 * sheet->height_m);
+  auto to_sheet = [&](const Vector3d& p) {
+    return Vector2d(centre.x() + p.x(), centre.y() - p.y());
+  };
+  // Page frame (x right, y down, z into the page) = tank (x, -y, -z).
+  const Eigen::Matrix3d page_from_tank =
+      Eigen::Vector3d(1, -1, -1).asDiagonal();
+  std::vector<Box> occupied;
+  Box all;
+  for (const tracking::TagPlacement& t : rig.tank_tags) {
+    const Eigen::Matrix3d r = page_from_tank * t.object_from_tag.R();
+    if (r(2, 2) < std::cos(1.0 * M_PI / 180) ||
+        std::abs(t.object_from_tag.translation.z()) > 1e-3) {
+      *error = "tank tag " + std::to_string(t.id) +
+               " does not lie flat on the board (z = 0, facing up)";
+      return false;
+    }
+    SheetTag tag;
+    tag.id = t.id;
+    tag.edge_m = t.edge_m;
+    tag.centre_m = to_sheet(t.object_from_tag.translation);
+    tag.angle_rad = std::atan2(r(1, 0), r(0, 0));
+    sheet->tags.push_back(tag);
+    occupied.push_back(TagBox(tag, f));
+    all.extend(occupied.back());
+  }
+  const Box page(
+      Vector2d(kSheetMargin, kSheetMargin),
+      Vector2d(sheet->width_m - kSheetMargin, sheet->height_m - kSheetMargin));
+  if (!page.contains(all)) {
+    *error = "the board (" + Millimetres(all.sizes().x()) + " x " +
+             Millimetres(all.sizes().y()) +
+             " mm with tag margins) does not fit on " + paper.name +
+             " landscape (" + Millimetres(page.sizes().x()) + " x " +
+             Millimetres(page.sizes().y()) + " mm printable)";
+    return false;
+  }
+  // Tank outline (a guide for where the water will appear).
+  const double hx = 0.5 * rig.tank.size_x_m, hy = 0.5 * rig.tank.size_y_m;
+  if (hx > 0 && hy > 0) {
+    const Vector2d c[4] = {to_sheet({-hx, hy, 0}), to_sheet({hx, hy, 0}),
+                           to_sheet({hx, -hy, 0}), to_sheet({-hx, -hy, 0})};
+    for (int k = 0; k < 4; ++k)
+      sheet->lines.push_back({c[k], c[(k + 1) % 4], SheetLine::Style::kGuide});
+  }
+  // Check points for `ripple calib check`.
+  for (const CheckPoint& p : BoardCheckPoints(rig)) {
+    const Vector2d s = to_sheet(p.point_in_tank);
+    const double arm = 3 * kMm;
+    sheet->lines.push_back(
+        {s - Vector2d(arm, 0), s + Vector2d(arm, 0), SheetLine::Style::kThin});
+    sheet->lines.push_back(
+        {s - Vector2d(0, arm), s + Vector2d(0, arm), SheetLine::Style::kThin});
+    sheet->circles.push_back({s, 1.0 * kMm, SheetLine::Style::kThin});
+    sheet->texts.push_back(
+        {s + Vector2d(3.5 * kMm, -2.5 * kMm), p.name, kLabelSize, 0.0});
+    occupied.push_back(Box(s - Vector2d(arm, arm), s + Vector2d(arm, arm)));
+    occupied.push_back(TextBox(sheet->texts.back()));
+  }
+  sheet->title =
+      "Ripple tank board (" + rig.family + ") - " + paper.name + " landscape";
+  if (!AddScaleBar(sheet, &occupied, Vector2d(centre.x(), sheet->height_m))) {
+    *error = "no room for the 100 mm scale bar on " + paper.name;
+    return false;
+  }
+  AddFreeText(sheet, &occupied,
+              sheet->title + " - print at 100 % (no fit to page)", kLabelSize,
+              Vector2d(centre.x(), 0));
+  return true;
+}
+
+bool MakeCubeNetSheet(const tracking::Rig& rig, const PaperSize& paper,
+                      Sheet* sheet, std::vector<NetFace>* faces,
+                      std::string* error) {
+  FamilyInfo f;
+  if (!GetFamily(rig.family, &f, error)) return false;
+  if (!rig.pen || rig.pen->faces.empty() || !(rig.pen->cube_edge_m > 0)) {
+    *error = "the rig has no pen cube";
+    return false;
+  }
+  const tracking::PenSpec& pen = *rig.pen;
+  const double a = pen.cube_edge_m;
+  // Which cube side each tag sits on (outward normal = -tag z).
+  const Vector3d axes[6] = {Vector3d::UnitX(), -Vector3d::UnitX(),
+                            Vector3d::UnitY(), -Vector3d::UnitY(),
+                            Vector3d::UnitZ(), -Vector3d::UnitZ()};
+  int tag_on_side[6] = {-1, -1, -1, -1, -1, -1};
+  std::map<int, const tracking::TagPlacement*> by_id;
+  for (const tracking::TagPlacement& t : pen.faces) {
+    const Vector3d normal = -t.object_from_tag.R().col(2);
+    int side = -1;
+    for (int s = 0; s < 6; ++s)
+      if (normal.dot(axes[s]) > std::cos(10 * M_PI / 180)) side = s;
+    if (side < 0 || tag_on_side[side] >= 0) {
+      *error = "pen face " + std::to_string(t.id) +
+               (side < 0 ? " does not face along a cube axis"
+                         : " shares a cube side with face " +
+                               std::to_string(tag_on_side[side]));
+      return false;
+    }
+    tag_on_side[side] = t.id;
+    by_id[t.id] = &t;
+  }
+  // Centre of the cross: opposite the untagged (pen) side, else +z.
+  int centre_side = 4;
+  for (int s = 0; s < 6; ++s)
+    if (tag_on_side[s] < 0) {
+      centre_side = s ^ 1;
+      break;
+    }
+  NetFace c;
+  c.edge_m = a;
+  c.normal_in_pen = axes[centre_side];
+  c.tag_id = tag_on_side[centre_side];
+  if (c.tag_id >= 0) {
+    c.pen_from_page = by_id[c.tag_id]->object_from_tag.R();
+  } else {
+    const Vector3d w = -c.normal_in_pen;
+    const Vector3d u = std::abs(w.x()) < 0.9 ? Vector3d::UnitX().cross(w)
+                                             : Vector3d::UnitY().cross(w);
+    c.pen_from_page.col(0) = u.normalized();
+    c.pen_from_page.col(2) = w;
+    c.pen_from_page.col(1) = w.cross(c.pen_from_page.col(0));
+  }
+  // Rolling the cube one face along page direction d (see DESIGN: the flap
+  // folds away from the printed side).
+  auto roll = [&](const NetFace& from, const Vector2d& d) {
+    NetFace to = from;
+    const Vector3d dir =
+        from.pen_from_page.col(0) * d.x() + from.pen_from_page.col(1) * d.y();
+    const Vector3d axis = from.normal_in_pen.cross(dir);
+    to.pen_from_page =
+        Eigen::AngleAxisd(M_PI / 2, axis.normalized()).toRotationMatrix() *
+        from.pen_from_page;
+    to.normal_in_pen = dir;
+    to.centre_m = from.centre_m + a * d;
+    to.tag_id = -1;
+    for (int s = 0; s < 6; ++s)
+      if (dir.dot(axes[s]) > 0.5) to.tag_id = tag_on_side[s];
+    return to;
+  };
+  // Cross: centre (1,1); up, left, right, down; the tail below the down face.
+  *sheet = Sheet();
+  sheet->family = rig.family;
+  sheet->width_m = paper.width_m;
+  sheet->height_m = paper.height_m;
+  const Vector2d origin(0.5 * sheet->width_m - 1.5 * a, 0.035);
+  c.centre_m = origin + a * Vector2d(1.5, 1.5);
+  faces->clear();
+  faces->push_back(c);
+  faces->push_back(roll(c, {0, -1}));
+  faces->push_back(roll(c, {-1, 0}));
+  faces->push_back(roll(c, {1, 0}));
+  faces->push_back(roll(c, {0, 1}));
+  faces->push_back(roll(faces->back(), {0, 1}));
+
+  std::vector<Box> occupied;
+  // Edges: shared ones fold; open ones pair up (same cube edge) and one of
+  // each pair carries a glue tab.
+  const Vector2d dirs[4] = {{0, 1}, {1, 0}, {0, -1}, {-1, 0}};
+  auto has_face_at = [&](const Vector2d& p) {
+    for (const NetFace& nf : *faces)
+      if ((nf.centre_m - p).norm() < 1e-6) return true;
+    return false;
+  };
+  std::vector<std::pair<Vector3d, int>> tabbed_edges;  // 3D midpoint, face
+  const double tab = std::min(0.3 * a, 0.008);
+  std::map<int, std::vector<Vector2d>> open_dirs;  // face index -> dirs
+  for (size_t i = 0; i < faces->size(); ++i) {
+    const NetFace& nf = (*faces)[i];
+    for (const Vector2d& d : dirs) {
+      const Vector2d perp(-d.y(), d.x());
+      const Vector2d p0 = nf.centre_m + 0.5 * a * (d + perp);
+      const Vector2d p1 = nf.centre_m + 0.5 * a * (d - perp);
+      if (has_face_at(nf.centre_m + a * d)) {
+        // Draw each shared fold once.
+        if (d.x() > 0 || d.y() > 0)
+          sheet->lines.push_back({p0, p1, SheetLine::Style::kFold});
+        continue;
+      }
+      open_dirs[i].push_back(d);
+      const Vector3d mid = nf.PenPoint(0.5 * (p0 + p1));
+      bool partner_has_tab = false;
+      for (const auto& [m, face] : tabbed_edges)
+        partner_has_tab |= (m - mid).norm() < 1e-6;
+      if (partner_has_tab) {
+        sheet->lines.push_back({p0, p1, SheetLine::Style::kCut});
+        continue;
+      }
+      tabbed_edges.push_back({mid, static_cast<int>(i)});
+      const Vector2d q0 = p0 + tab * d - tab * perp;
+      const Vector2d q1 = p1 + tab * d + tab * perp;
+      sheet->lines.push_back({p0, p1, SheetLine::Style::kFold});
+      sheet->lines.push_back({p0, q0, SheetLine::Style::kCut});
+      sheet->lines.push_back({q0, q1, SheetLine::Style::kCut});
+      sheet->lines.push_back({q1, p1, SheetLine::Style::kCut});
+      occupied.push_back(BoxOf({p0, p1, q0, q1}));
+    }
+  }
+  // Tags, with their id just outside their face on an open edge (the
+  // tag and its white margin usually fill the face).
+  for (size_t i = 0; i < faces->size(); ++i) {
+    const NetFace& nf = (*faces)[i];
+    occupied.push_back(Box(nf.centre_m - Vector2d(0.5 * a, 0.5 * a),
+                           nf.centre_m + Vector2d(0.5 * a, 0.5 * a)));
+    if (nf.tag_id < 0) {
+      sheet->circles.push_back({nf.centre_m,
+                                std::max(pen.shaft_radius_m, 0.001),
+                                SheetLine::Style::kCut});
+      sheet->texts.push_back({nf.centre_m + Vector2d(0, 0.3 * a),
+                              "pen side: cut the hole", kLabelSize, 0.0});
+      continue;
+    }
+    const tracking::TagPlacement& t = *by_id[nf.tag_id];
+    const Eigen::Matrix3d page_from_pen = nf.pen_from_page.transpose();
+    const Vector3d in_page = page_from_pen * (t.object_from_tag.translation -
+                                              0.5 * a * nf.normal_in_pen);
+    const Eigen::Matrix3d r = page_from_pen * t.object_from_tag.R();
+    SheetTag tag;
+    tag.id = t.id;
+    tag.edge_m = t.edge_m;
+    tag.centre_m = nf.centre_m + in_page.head<2>();
+    tag.angle_rad = std::atan2(r(1, 0), r(0, 0));
+    // Label direction (tag image coordinates) pointing at an open edge,
+    // preferring below the tag; placed beyond the face edge.
+    const Eigen::Matrix2d page_from_tag2 = Rot2(tag.angle_rad);
+    for (const Vector2d& d_tag :
+         {Vector2d(0, 1), Vector2d(0, -1), Vector2d(1, 0), Vector2d(-1, 0)}) {
+      const Vector2d d_page = page_from_tag2 * d_tag;
+      bool open = false;
+      for (const Vector2d& od : open_dirs[i])
+        open |= (od - d_page).norm() < 1e-6;
+      if (!open) continue;
+      tag.label_dir = d_tag;
+      const double half = 0.5 * f.total * t.edge_m / f.border;
+      const double to_edge = 0.5 * a - d_page.dot(in_page.head<2>());
+      tag.label_offset_m = std::max(0.0, to_edge - half) + 0.4 * kMm;
+      break;
+    }
+    sheet->tags.push_back(tag);
+  }
+  sheet->title = "Ripple pen cube net (" + Millimetres(a) + " mm cube, " +
+                 rig.family + ") - " + paper.name;
+  Box net;
+  for (const Box& b : occupied) net.extend(b);
+  occupied.assign(1, net);
+  AddFreeText(sheet, &occupied, sheet->title, kTextSize,
+              Vector2d(0.5 * sheet->width_m, 0));
+  AddFreeText(sheet, &occupied,
+              "Cut the solid lines, fold the dashed lines away from you, glue "
+              "the tabs inside.",
+              kLabelSize, Vector2d(0.5 * sheet->width_m, net.max().y() + 0.01));
+  AddFreeText(sheet, &occupied,
+              "Print at 100 % (no fit to page). Ids are printed beside their "
+              "faces.",
+              kLabelSize, Vector2d(0.5 * sheet->width_m, net.max().y() + 0.01));
+  if (!AddScaleBar(sheet, &occupied,
+                   Vector2d(0.5 * sheet->width_m, net.max().y() + 0.03))) {
+    *error = "no room for the 100 mm scale bar on " + paper.name;
+    return false;
+  }
+  return true;
+}
+
+bool MakeChessboardSheet(int cols, int rows, double square_m,
+                         const PaperSize& paper, Sheet* sheet,
+                         std::string* error) {
+  if (cols < 2 || rows < 2 || !(square_m > 0)) {
+    *error = "chessboard needs at least 2x2 inner corners and a square > 0";
+    return false;
+  }
+  *sheet = Sheet();
+  sheet->width_m = paper.height_m;  // landscape
+  sheet->height_m = paper.width_m;
+  const double w = (cols + 1) * square_m, h = (rows + 1) * square_m;
+  // Keep a white border of half a square (the detector needs it) and room
+  // for the scale bar.
+  const double need_w = w + square_m + 2 * kSheetMargin;
+  const double need_h = h + square_m + 2 * kSheetMargin + 8 * kMm;
+  if (need_w > sheet->width_m || need_h > sheet->height_m) {
+    *error = "a " + std::to_string(cols) + "x" + std::to_string(rows) +
+             " chessboard of " + Millimetres(square_m) +
+             " mm squares does not fit on " + paper.name;
+    return false;
+  }
+  const Vector2d o(
+      0.5 * (sheet->width_m - w),
+      kSheetMargin + 0.5 * square_m + 0.5 * (sheet->height_m - need_h));
+  for (int r = 0; r <= rows; ++r)
+    for (int c = 0; c <= cols; ++c)
+      if ((r + c) % 2 == 0)
+        sheet->black_boxes.emplace_back(o + square_m * Vector2d(c, r),
+                                        o + square_m * Vector2d(c + 1, r + 1));
+  std::vector<Box> occupied = {
+      Box(o - Vector2d(0.5, 0.5) * square_m,
+          o + Vector2d(w, h) + Vector2d(0.5, 0.5) * square_m)};
+  sheet->title = "Ripple calibration chessboard: " + std::to_string(cols) +
+                 "x" + std::to_string(rows) + " inner corners, " +
+                 Millimetres(square_m) + " mm squares (--chessboard " +
+                 std::to_string(cols) + "x" + std::to_string(rows) +
+                 " --square " + Millimetres(square_m / 1e3 * 1e3) + "e-3)";
+  if (!AddScaleBar(sheet, &occupied,
+                   Vector2d(0.5 * sheet->width_m, sheet->height_m))) {
+    *error = "no room for the 100 mm scale bar on " + paper.name;
+    return false;
+  }
+  AddFreeText(sheet, &occupied, sheet->title, kLabelSize,
+              Vector2d(0.5 * sheet->width_m, 0));
+  return true;
+}
+
+namespace {
+
+void Draw(cairo_t* cr, const Sheet& sheet, const tracking::TagFamily& family,
+          const FamilyInfo& f) {
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_rectangle(cr, 0, 0, sheet.width_m, sheet.height_m);
+  cairo_fill(cr);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  // Tags: every black cell of the family's bitmap, one path per tag so that
+  // neighbouring cells leave no seams.
+  for (const SheetTag& tag : sheet.tags) {
+    auto bitmap = tracking::MakeTagBitmap(family, tag.id);
+    if (!bitmap) continue;
+    const double cell = tag.edge_m / bitmap->width_at_border;
+    const double first =
+        -0.5 * tag.edge_m -
+        0.5 * (bitmap->total_width - bitmap->width_at_border) * cell;
+    cairo_save(cr);
+    cairo_translate(cr, tag.centre_m.x(), tag.centre_m.y());
+    cairo_rotate(cr, tag.angle_rad);
+    cairo_new_path(cr);
+    for (int r = 0; r < bitmap->total_width; ++r)
+      for (int c = 0; c < bitmap->total_width; ++c)
+        if (bitmap->black(r, c))
+          cairo_rectangle(cr, first + c * cell, first + r * cell, cell, cell);
+    cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
+    cairo_fill(cr);
+    cairo_restore(cr);
+  }
+  for (const Box& b : sheet.black_boxes) {
+    cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
+  }
+  cairo_fill(cr);
+  auto stroke_style = [&](SheetLine::Style s) {
+    double dash[2] = {3 * kMm, 2 * kMm};
+    switch (s) {
+      case SheetLine::Style::kCut:
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_set_line_width(cr, 0.3 * kMm);
+        cairo_set_dash(cr, nullptr, 0, 0);
+        break;
+      case SheetLine::Style::kFold:
+        cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
+        cairo_set_line_width(cr, 0.3 * kMm);
+        cairo_set_dash(cr, dash, 2, 0);
+        break;
+      case SheetLine::Style::kThin:
+        cairo_set_source_rgb(cr, 0, 0, 0);
+        cairo_set_line_width(cr, 0.15 * kMm);
+        cairo_set_dash(cr, nullptr, 0, 0);
+        break;
+      case SheetLine::Style::kGuide:
+        cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
+        cairo_set_line_width(cr, 0.2 * kMm);
+        dash[0] = 1.5 * kMm;
+        dash[1] = 1.5 * kMm;
+        cairo_set_dash(cr, dash, 2, 0);
+        break;
+    }
+  };
+  for (const SheetLine& l : sheet.lines) {
+    stroke_style(l.style);
+    cairo_move_to(cr, l.a.x(), l.a.y());
+    cairo_line_to(cr, l.b.x(), l.b.y());
+    cairo_stroke(cr);
+  }
+  for (const SheetCircle& c : sheet.circles) {
+    stroke_style(c.style);
+    cairo_new_path(cr);
+    cairo_arc(cr, c.centre.x(), c.centre.y(), c.radius_m, 0, 2 * M_PI);
+    cairo_stroke(cr);
+  }
+  cairo_set_dash(cr, nullptr, 0, 0);
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
+                         CAIRO_FONT_WEIGHT_NORMAL);
+  std::vector<SheetText> texts = sheet.texts;
+  for (const SheetTag& tag : sheet.tags) texts.push_back(TagLabel(tag, f));
+  for (const SheetText& t : texts) {
+    cairo_save(cr);
+    cairo_set_font_size(cr, t.size_m);
+    cairo_translate(cr, t.at.x(), t.at.y());
+    cairo_rotate(cr, t.angle_rad);
+    cairo_text_extents_t e;
+    cairo_text_extents(cr, t.text.c_str(), &e);
+    cairo_move_to(cr, -0.5 * e.width - e.x_bearing,
+                  -0.5 * e.height - e.y_bearing);
+    cairo_show_text(cr, t.text.c_str());
+    cairo_restore(cr);
+  }
+}
+
+uint32_t Crc32(const uint8_t* data, size_t n, uint32_t crc = 0) {
+  static uint32_t table[256];
+  static bool init = false;
+  if (!init) {
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      table[i] = c;
+    }
+    init = true;
+  }
+  crc = ~crc;
+  for (size_t i = 0; i < n; ++i)
+    crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
+  return ~crc;
+}
+
+// Inserts a pHYs chunk (pixels per metre) after IHDR so that viewers and
+// printers know the physical size.
+bool AddPngResolution(const std::string& path, double dpi) {
+  std::ifstream in(path, std::ios::binary);
+  std::string png((std::istreambuf_iterator<char>(in)), {});
+  in.close();
+  if (png.size() < 33 || png.compare(12, 4, "IHDR") != 0) return false;
+  if (png.find("pHYs") != std::string::npos) return true;
+  const uint32_t ppm = static_cast<uint32_t>(std::lround(dpi / 0.0254));
+  uint8_t chunk[21] = {0, 0, 0, 9, 'p', 'H', 'Y', 's'};
+  for (int i = 0; i < 2; ++i) {
+    chunk[8 + 4 * i] = ppm >> 24;
+    chunk[9 + 4 * i] = (ppm >> 16) & 0xFF;
+    chunk[10 + 4 * i] = (ppm >> 8) & 0xFF;
+    chunk[11 + 4 * i] = ppm & 0xFF;
+  }
+  chunk[16] = 1;  // unit: metre
+  const uint32_t crc = Crc32(chunk + 4, 13);
+  chunk[17] = crc >> 24;
+  chunk[18] = (crc >> 16) & 0xFF;
+  chunk[19] = (crc >> 8) & 0xFF;
+  chunk[20] = crc & 0xFF;
+  png.insert(33, reinterpret_cast<const char*>(chunk), 21);
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(png.data(), png.size());
+  return static_cast<bool>(out);
+}
+
+}  // namespace
+
+bool WriteSheet(const Sheet& sheet, const std::string& base, double png_dpi,
+                std::vector<std::string>* written, std::string* error) {
+  auto family = tracking::TagFamily::Create(sheet.family);
+  FamilyInfo f;
+  if (!family || !GetFamily(sheet.family, &f, error)) {
+    *error = "unknown tag family '" + sheet.family + "'";
+    return false;
+  }
+  constexpr double kPtPerM = 72.0 / 0.0254;
+  const double w_pt = sheet.width_m * kPtPerM, h_pt = sheet.height_m * kPtPerM;
+  auto vector_writer = [&](bool pdf) {
+    return [&, pdf](const std::string& temp, std::string* e) {
+      cairo_surface_t* s =
+          pdf ? cairo_pdf_surface_create(temp.c_str(), w_pt, h_pt)
+              : cairo_svg_surface_create(temp.c_str(), w_pt, h_pt);
+      if (!pdf) cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_MM);
+      if (pdf)
+        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE,
+                                       sheet.title.c_str());
+      cairo_t* cr = cairo_create(s);
+      cairo_scale(cr, kPtPerM, kPtPerM);
+      Draw(cr, sheet, *family, f);
+      cairo_destroy(cr);
+      cairo_surface_finish(s);
+      const bool ok = cairo_surface_status(s) == CAIRO_STATUS_SUCCESS;
+      cairo_surface_destroy(s);
+      if (!ok) *e = "cannot write '" + temp + "'";
+      return ok;
+    };
+  };
+  auto png_writer = [&](const std::string& temp, std::string* e) {
+    const double px_per_m = png_dpi / 0.0254;
+    const int w = static_cast<int>(std::lround(sheet.width_m * px_per_m));
+    const int h = static_cast<int>(std::lround(sheet.height_m * px_per_m));
+    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
+    cairo_t* cr = cairo_create(s);
+    cairo_scale(cr, px_per_m, px_per_m);
+    Draw(cr, sheet, *family, f);
+    cairo_destroy(cr);
+    const bool ok =
+        cairo_surface_write_to_png(s, temp.c_str()) == CAIRO_STATUS_SUCCESS &&
+        AddPngResolution(temp, png_dpi);
+    cairo_surface_destroy(s);
+    if (!ok) *e = "cannot write '" + temp + "'";
+    return ok;
+  };
+  for (const char* ext : {".pdf", ".svg", ".png"}) {
+    const std::string path = base + ext;
+    bool ok;
+    if (std::string(ext) == ".png")
+      ok = WriteAtomically(path, png_writer, error);
+    else
+      ok = WriteAtomically(path, vector_writer(std::string(ext) == ".pdf"),
+                           error);
+    if (!ok) return false;
+    written->push_back(path);
+  }
+  return true;
+}
+
+}  // namespace ripple::calib

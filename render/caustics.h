@@ -4,15 +4,20 @@
 // its refracted rays onto the floor, and deposits it over its projected
 // triangle, so intensity ~ surface area / projected area.
 //
-// Deposition is conservative: a projected triangle's flux is split evenly
-// among the map texels whose centres it covers (or given whole to the texel
-// under its centroid when it covers none), so a focusing triangle cannot
-// create infinite intensity and the flux deposited equals the flux entering
-// the surface (minus what lands outside the map, which the summary counts).
+// Deposition is exact and conservative: every projected triangle spreads its
+// flux uniformly over its projected area, and each map texel receives the
+// flux of exactly the part of the triangle that overlaps it (analytic area
+// coverage, accumulated per edge and prefix-summed per row as in font-rs'
+// accumulation rasteriser). The flux deposited therefore equals the flux
+// entering the surface (minus what lands outside the map, which the summary
+// counts), and flat water gives a uniform map. A triangle focused to less
+// than a tenth of a texel is splatted bilinearly at its centroid, so
+// focusing cannot create infinite intensity.
 #ifndef RIPPLE_RENDER_CAUSTICS_H_
 #define RIPPLE_RENDER_CAUSTICS_H_
 
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -44,6 +49,15 @@ struct CausticsSummary {
   double flux_outside = 0;
 };
 
+// Scratch memory of ComputeCaustics, kept between calls so that a frame
+// does not page-fault fresh buffers in. Not thread-safe; one per caller.
+struct CausticsWorkspace {
+  struct Buffers;
+  CausticsWorkspace();
+  ~CausticsWorkspace();
+  std::unique_ptr<Buffers> buffers;
+};
+
 // Fills `map` (map_nx * map_ny floats, row-major, row b along tank y) with
 // the floor irradiance relative to that under flat water: 1 = unchanged,
 // > 1 focused light. `light_in_tank` points towards the light (normalised
@@ -53,7 +67,8 @@ struct CausticsSummary {
 bool ComputeCaustics(const CausticsOptions& options,
                      const HeightFieldView& water, const TankGeometry& tank,
                      const glm::dvec3& light_in_tank, std::vector<float>* map,
-                     CausticsSummary* summary);
+                     CausticsSummary* summary,
+                     CausticsWorkspace* workspace = nullptr);
 
 }  // namespace ripple::render
 

@@ -35,6 +35,7 @@
   X(PFNGLCLEARPROC, glClear)                                     \
   X(PFNGLCLEARCOLORPROC, glClearColor)                           \
   X(PFNGLCLEARDEPTHPROC, glClearDepth)                           \
+  X(PFNGLCLEARSTENCILPROC, glClearStencil)                       \
   X(PFNGLCOLORMASKPROC, glColorMask)                             \
   X(PFNGLCOMPILESHADERPROC, glCompileShader)                     \
   X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                     \
@@ -84,7 +85,11 @@
   X(PFNGLREADBUFFERPROC, glReadBuffer)                           \
   X(PFNGLREADPIXELSPROC, glReadPixels)                           \
   X(PFNGLRENDERBUFFERSTORAGEPROC, glRenderbufferStorage)         \
+  X(PFNGLSCISSORPROC, glScissor)                                 \
   X(PFNGLSHADERSOURCEPROC, glShaderSource)                       \
+  X(PFNGLSTENCILFUNCPROC, glStencilFunc)                         \
+  X(PFNGLSTENCILMASKPROC, glStencilMask)                         \
+  X(PFNGLSTENCILOPPROC, glStencilOp)                             \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                           \
   X(PFNGLTEXPARAMETERFVPROC, glTexParameterfv)                   \
   X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                     \
@@ -125,6 +130,7 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glClear ripple_glClear
 #define glClearColor ripple_glClearColor
 #define glClearDepth ripple_glClearDepth
+#define glClearStencil ripple_glClearStencil
 #define glColorMask ripple_glColorMask
 #define glCompileShader ripple_glCompileShader
 #define glCreateProgram ripple_glCreateProgram
@@ -174,7 +180,11 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glReadBuffer ripple_glReadBuffer
 #define glReadPixels ripple_glReadPixels
 #define glRenderbufferStorage ripple_glRenderbufferStorage
+#define glScissor ripple_glScissor
 #define glShaderSource ripple_glShaderSource
+#define glStencilFunc ripple_glStencilFunc
+#define glStencilMask ripple_glStencilMask
+#define glStencilOp ripple_glStencilOp
 #define glTexImage2D ripple_glTexImage2D
 #define glTexParameterfv ripple_glTexParameterfv
 #define glTexParameteri ripple_glTexParameteri

@@ -45,7 +45,7 @@ enum Unit : int {
   kUnitReceiver = 7,
 };
 
-constexpr int kReceiverSize = 256;  // shadow receiver map texels per side
+constexpr int kReceiverSize = 128;  // shadow receiver map texels per side
 
 // Water shader variants: llvmpipe executes both sides of every branch, so
 // each combination of effects is its own program.
@@ -224,8 +224,8 @@ struct Renderer::Impl {
   PassTimings timings;
 
   std::map<int, Program> water_programs;  // by WaterVariant bits
-  Program solid_program, depth_program, walls_program, undistort_program,
-      receiver_program;
+  Program solid_program, depth_program, water_depth_program, walls_programs[2],
+      undistort_program, receiver_program;
   VertexArray empty_vao;
   Mesh box, cylinder;
   VertexArray grid_vao;
@@ -264,6 +264,7 @@ struct Renderer::Impl {
   // Caustics.
   Texture caustics_tex;
   std::vector<float> caustics_map;
+  CausticsWorkspace caustics_workspace;
   std::optional<std::uint64_t> caustics_counter;
   glm::dvec3 caustics_light{0.0};
   std::optional<TankGeometry> caustics_tank;
@@ -283,6 +284,8 @@ struct Renderer::Impl {
   void DrawShadow(const SceneInputs& scene);
   void UpdateCaustics(const SceneInputs& scene);
   void DrawMain(const SceneInputs& scene);
+  glm::ivec4 WaterRect(const SceneInputs& scene,
+                       const glm::dmat4& clip_from_tank) const;
   void DrawSolids(const SceneInputs& scene, const Program& p,
                   const glm::dmat4& clip_from_tank, bool obstacles, bool pen,
                   bool walls);
@@ -299,7 +302,10 @@ bool Renderer::Impl::Init(std::string* error) {
   };
   if (!build(&solid_program, "solid", "solid.vert", "solid.frag") ||
       !build(&depth_program, "depth", "solid.vert", "depth.frag") ||
-      !build(&walls_program, "walls", "walls.vert", "walls.frag") ||
+      !build(&water_depth_program, "water_depth", "water.vert", "depth.frag") ||
+      !build(&walls_programs[0], "walls", "walls.vert", "walls.frag") ||
+      !BuildProgram(&walls_programs[1], "front walls", "walls.vert",
+                    "walls.frag", "#define FRONT_WALL 1\n", error) ||
       !build(&undistort_program, "undistort", "fullscreen.vert",
              "undistort.frag") ||
       !build(&receiver_program, "shadow_receiver", "fullscreen.vert",
@@ -437,7 +443,8 @@ const Program* Renderer::Impl::WaterProgram(int variant) {
   if (variant & kWaterFlat) defines += "#define FLAT_WATER 1\n";
   Program p;
   std::string error;
-  if (!BuildProgram(&p, "water", "water.vert", "water.frag", defines, &error)) {
+  if (!BuildProgram(&p, "water", "fullscreen.vert", "water.frag", defines,
+                    &error)) {
     std::fprintf(stderr, "ripple render: %s\n", error.c_str());
     return nullptr;
   }
@@ -451,12 +458,12 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
   depth_rb.Create();
   glBindRenderbuffer(GL_RENDERBUFFER, depth_rb.id());
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT24, w, h);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
   main_fbo.Create();
   glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
                             GL_RENDERBUFFER, color_rb.id());
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT,
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
                             GL_RENDERBUFFER, depth_rb.id());
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     *error = "main framebuffer incomplete";
@@ -752,7 +759,8 @@ void Renderer::Impl::UpdateCaustics(const SceneInputs& scene) {
   CausticsOptions co;
   co.map_nx = co.map_ny = options.caustics_map_size;
   co.threads = options.caustics_threads;
-  ComputeCaustics(co, w, scene.tank, l, &caustics_map, nullptr);
+  ComputeCaustics(co, w, scene.tank, l, &caustics_map, nullptr,
+                  &caustics_workspace);
   glBindTexture(GL_TEXTURE_2D, caustics_tex.id());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, co.map_nx, co.map_ny, GL_RED,
@@ -769,6 +777,7 @@ void Renderer::Impl::SetCommon(const Program& p, const SceneInputs& scene,
   glUseProgram(p.id());
   SetMat4(p, "u_clip_from_tank", clip_from_tank);
   SetMat4(p, "u_cam_from_tank", scene.cam_from_tank);
+  SetMat4(p, "u_tank_from_cam", glm::inverse(scene.cam_from_tank));
   glUniform4f(p.Uniform("u_intr"), k.fx, k.fy, k.cx, k.cy);
   glUniform2f(p.Uniform("u_image_size"), k.width, k.height);
   const glm::dvec3 cam = glm::inverse(scene.cam_from_tank)[3];
@@ -795,6 +804,30 @@ void Renderer::Impl::SetCommon(const Program& p, const SceneInputs& scene,
   SetInt(p, "u_receiver", kUnitReceiver);
   SetVec3(p, "u_sigma", options.absorption_per_m);
   SetVec3(p, "u_scatter", options.deep_water_color);
+}
+
+// Window rectangle (x, y, w, h) holding the water whatever its waves: the
+// tank interior between 1 cm under and over the rest level.
+glm::ivec4 Renderer::Impl::WaterRect(const SceneInputs& scene,
+                                     const glm::dmat4& clip_from_tank) const {
+  const TankGeometry& t = scene.tank;
+  glm::dvec2 lo(1e9), hi(-1e9);
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 p((i & 1 ? 0.5 : -0.5) * t.size_x,
+                       (i & 2 ? 0.5 : -0.5) * t.size_y,
+                       t.water_level + (i & 4 ? 0.01 : -0.01), 1.0);
+    const glm::dvec4 c = clip_from_tank * p;
+    if (c.w <= 1e-6) return {0, 0, k.width, k.height};
+    const glm::dvec2 win = WindowFromClip(c, k.width, k.height);
+    lo = glm::min(lo, win);
+    hi = glm::max(hi, win);
+  }
+  const int x0 = std::clamp(static_cast<int>(std::floor(lo.x)) - 1, 0, k.width);
+  const int y0 =
+      std::clamp(static_cast<int>(std::floor(lo.y)) - 1, 0, k.height);
+  const int x1 = std::clamp(static_cast<int>(std::ceil(hi.x)) + 1, 0, k.width);
+  const int y1 = std::clamp(static_cast<int>(std::ceil(hi.y)) + 1, 0, k.height);
+  return {x0, y0, x1 - x0, y1 - y0};
 }
 
 void Renderer::Impl::DrawMain(const SceneInputs& scene) {
@@ -836,11 +869,13 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
   glViewport(0, 0, w, h);
   glClearDepth(1.0);
+  glClearStencil(0);
+  glStencilMask(0xff);
   if (have_video) {
-    glClear(GL_DEPTH_BUFFER_BIT);
+    glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   } else {
     glClearColor(0.f, 0.f, 0.f, 1.f);
-    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
     scene_tex = scene_copy_tex.id();
   }
   glEnable(GL_DEPTH_TEST);
@@ -889,15 +924,35 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
       (fx.refraction ? kWaterRefraction : 0) | (fx.flat_water ? kWaterFlat : 0);
   const Program* water = WaterProgram(variant);
   if (water == nullptr) return;
+  // (a) The mesh lays depth and marks its visible pixels in the stencil.
+  SetCommon(water_depth_program, scene, clip_from_tank);
+  glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  glBindVertexArray(grid_vao.id());
+  glDrawElements(GL_TRIANGLES, grid_index_count, GL_UNSIGNED_INT, nullptr);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  // (b) One shading per marked pixel, in the water's screen rectangle.
   SetCommon(*water, scene, clip_from_tank);
   SetFloat(*water, "u_ambient", options.shadow_ambient);
   SetFloat(*water, "u_env_distance", options.reflection_distance_m);
-  glBindVertexArray(grid_vao.id());
-  glDrawElements(GL_TRIANGLES, grid_index_count, GL_UNSIGNED_INT, nullptr);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  glStencilMask(0);
+  glDisable(GL_DEPTH_TEST);
+  const glm::ivec4 rect = WaterRect(scene, clip_from_tank);
+  glEnable(GL_SCISSOR_TEST);
+  glScissor(rect.x, rect.y, rect.z, rect.w);
+  glBindVertexArray(empty_vao.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glStencilMask(0xff);
+  glEnable(GL_DEPTH_TEST);
 
   // Glass walls, far ones first, blended over everything.
   if (scene.effects.walls) {
-    SetCommon(walls_program, scene, clip_from_tank);
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_SRC1_COLOR);
     glDepthMask(GL_FALSE);
@@ -907,7 +962,7 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
     const double outside[4] = {-hs.y - cam.y, cam.x - hs.x, cam.y - hs.y,
                                -hs.x - cam.x};
     for (int pass = 0; pass < 2; ++pass) {
-      SetFloat(walls_program, "u_front", float(pass));
+      SetCommon(walls_programs[pass], scene, clip_from_tank);
       for (int i = 0; i < 4; ++i) {
         if ((outside[i] > 0) == (pass == 1))
           glDrawArrays(GL_TRIANGLES, 6 * i, 6);

@@ -38,7 +38,7 @@ struct RendererOptions {
   // Quads per side of the water mesh. llvmpipe spends ~0.5 us per triangle
   // per pass, so keep it coarse: detail comes from per-pixel normals.
   int surface_grid = 32;
-  int shadow_map_size = 1024;   // texels per side
+  int shadow_map_size = 512;    // texels per side
   int caustics_map_size = 256;  // texels per side, over the tank floor
   int caustics_threads = 1;     // CPU threads for the caustics map
   // The shadow map is redrawn only when an occluder moved relative to the

@@ -2,6 +2,7 @@
 // Frames: tank frame (metres, z up, floor z = 0); camera frame is OpenCV's.
 uniform mat4 u_clip_from_tank;   // FBO stores the image top row first
 uniform mat4 u_cam_from_tank;
+uniform mat4 u_tank_from_cam;
 uniform vec4 u_intr;             // fx, fy, cx, cy (pixels)
 uniform vec2 u_image_size;       // pixels
 uniform vec3 u_cam_in_tank;      // camera centre

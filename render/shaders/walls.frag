@@ -1,12 +1,12 @@
 // Glass walls with dual-source blending, dst' = src0 + dst * src1, so the
 // water behind a front wall tints each colour channel by its own
 // transmittance: the user sees the water's volume through the glass.
+// FRONT_WALL (defined for walls facing the camera) adds the water volume.
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;
 layout(location = 0, index = 0) out vec4 o_color;
 layout(location = 0, index = 1) out vec4 o_transmit;
-uniform float u_front;  // 1 for walls facing the camera
 uniform vec3 u_sigma;
 uniform vec3 u_scatter;
 
@@ -16,7 +16,8 @@ void main() {
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
   vec3 color = vec3(0.0);
   vec3 transmit = vec3(1.0);
-  if (u_front > 0.5 && v_p.z < surface) {
+#ifdef FRONT_WALL
+  if (v_p.z < surface) {
     // Path through the water until the floor, the surface or a far wall.
     float tf = v.z < -1e-5 ? -v_p.z / v.z : 1e3;
     float ts = v.z > 1e-5 ? (u_tank.w - v_p.z) / v.z : 1e3;
@@ -26,6 +27,7 @@ void main() {
     transmit = exp(-u_sigma * len);
     color = u_scatter * (1.0 - transmit);
   }
+#endif
   // Glass: a faint tint plus a Fresnel sheen, brighter rims at the top edge
   // and the corners, and a bright line where the water meets the glass.
   float cos_v = abs(dot(v, normalize(v_n)));

@@ -4,10 +4,16 @@
 // reflection of a map folded from the video (after Ropinski et al.'s virtual
 // reflections), and a specular highlight of the light.
 //
+// Deferred: the coarse mesh (water.vert + depth.frag) has already laid
+// depth and marked its pixels in the stencil; this shader runs once per
+// marked pixel (a scissored full-screen triangle) and finds the surface
+// point by casting the pixel's ray against the height field. llvmpipe shades
+// whole 4x4 blocks per triangle, so shading the mesh directly would run this
+// shader 2-3 times per pixel along the many triangle edges.
+//
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
 // FLAT_WATER): llvmpipe runs both sides of a branch, so disabled effects
 // must not be in the shader at all.
-in vec3 v_p;
 out vec4 o_color;
 uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
 uniform sampler2D u_reflection;  // small blurred copy, mirrored wrap
@@ -30,11 +36,22 @@ void main() {
 #ifdef FLAT_WATER
   o_color = vec4(1.0);
 #else
-  // Height and slope, precomputed per cell: (h, dh/dx, dh/dy).
-  vec3 hs = texture(u_height, HeightUv(v_p.xy)).rgb;
+  // The pixel's ray (OpenCV pixel = window - 0.5 in our top-first FBO) and
+  // two fixed-point steps onto the surface z = level + h(x, y). Height and
+  // slope are precomputed per cell: (h, dh/dx, dh/dy).
+  vec2 px = gl_FragCoord.xy - 0.5;
+  vec3 v = normalize(mat3(u_tank_from_cam) *
+                     vec3((px - u_intr.zw) / u_intr.xy, 1.0));
+  vec3 c = u_cam_in_tank;
+  float dz = min(v.z, -1e-4);
+  float s = (u_tank.w - c.z) / dz;
+  vec3 hs = texture(u_height, HeightUv(c.xy + s * v.xy)).rgb;
+  s = (u_tank.w + hs.x - c.z) / dz;
+  hs = texture(u_height, HeightUv(c.xy + s * v.xy)).rgb;
+  s = (u_tank.w + hs.x - c.z) / dz;
+  vec3 p = c + s * v;
+  p.xy = clamp(p.xy, -0.5 * u_tank.xy, 0.5 * u_tank.xy);
   vec3 n = normalize(vec3(-hs.y, -hs.z, 1.0));
-  vec3 p = vec3(v_p.xy, u_tank.w + hs.x);
-  vec3 v = normalize(p - u_cam_in_tank);
   vec2 tank_uv = p.xy / u_tank.xy + 0.5;
 
   // Refraction (Snell, air to water) to the floor or a wall.

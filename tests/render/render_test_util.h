@@ -147,6 +147,47 @@ inline TestScene MakeScene(int w, int h, View view, bool ripple,
   return s;
 }
 
+// Paints the real pen (PenGeometry; cube and shaft) into a BGR8 frame by
+// splatting dense surface points: a stand-in for the pen in a camera image.
+// The pen is assumed in front of everything else.
+inline void PaintPen(const Intrinsics& k, const glm::dmat4& cam_from_tank,
+                     const glm::dmat4& tank_from_pen, const PenGeometry& g,
+                     std::vector<std::uint8_t>* bgr) {
+  const glm::dmat4 cam_from_pen = cam_from_tank * tank_from_pen;
+  auto paint = [&](const glm::dvec3& p_in_pen, int shade) {
+    const glm::dvec4 c = cam_from_pen * glm::dvec4(p_in_pen, 1.0);
+    if (c.z <= 1e-3) return;
+    const int u = static_cast<int>(std::lround(k.fx * c.x / c.z + k.cx));
+    const int v = static_cast<int>(std::lround(k.fy * c.y / c.z + k.cy));
+    if (u < 0 || v < 0 || u >= k.width || v >= k.height) return;
+    std::uint8_t* px = &(*bgr)[(static_cast<size_t>(v) * k.width + u) * 3];
+    px[0] = static_cast<std::uint8_t>(std::min(255, 120 + shade));
+    px[1] = static_cast<std::uint8_t>(std::min(255, 40 + shade / 2));
+    px[2] = 30;
+  };
+  const double step = 0.0003;
+  const double r = g.shaft_radius, e = g.cube_edge;
+  for (double z = -0.5 * e - g.shaft_length; z <= -0.5 * e; z += step) {
+    for (double a = 0; a < 2 * M_PI; a += step / r) {
+      paint({r * std::cos(a), r * std::sin(a), z},
+            static_cast<int>(60 * (1 + std::cos(a))));
+    }
+  }
+  for (int axis = 0; axis < 3; ++axis) {
+    for (double s : {-0.5, 0.5}) {
+      for (double a = -0.5 * e; a <= 0.5 * e; a += step) {
+        for (double b = -0.5 * e; b <= 0.5 * e; b += step) {
+          glm::dvec3 p;
+          p[axis] = s * e;
+          p[(axis + 1) % 3] = a;
+          p[(axis + 2) % 3] = b;
+          paint(p, 40 * axis);
+        }
+      }
+    }
+  }
+}
+
 }  // namespace ripple::render::testing
 
 #endif  // RIPPLE_TESTS_RENDER_RENDER_TEST_UTIL_H_

@@ -1,0 +1,181 @@
+// Issue 6's passes on EGL (llvmpipe in CI): shadow on and off, caustics from
+// a single ripple, the pen dipped into the water (its phantom hides the
+// water in front of it), and the redraw-only-when-changed rules.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "render/renderer.h"
+#include "tests/render/golden.h"
+#include "tests/render/render_test_util.h"
+
+namespace ripple::render {
+namespace {
+
+using testing::MakeScene;
+using testing::MatchesGolden;
+using testing::TestScene;
+using testing::View;
+
+constexpr int kW = 320, kH = 240;
+
+cv::Mat RenderScene(Renderer* r, const SceneInputs& in) {
+  EXPECT_TRUE(r->Render(in));
+  cv::Mat out(r->intrinsics().height, r->intrinsics().width, CV_8UC3);
+  EXPECT_TRUE(r->ReadBgr(out.data, static_cast<int>(out.step)));
+  return out;
+}
+
+double MeanDiff(const cv::Mat& a, const cv::Mat& b) {
+  cv::Mat d;
+  cv::absdiff(a, b, d);
+  const cv::Scalar m = cv::mean(d);
+  return (m[0] + m[1] + m[2]) / 3.0;
+}
+
+// A pen leaning over the tank, its tip `tip_depth` under the rest level.
+glm::dmat4 PenPose(const TankGeometry& tank, double tip_depth) {
+  const double tip_in_pen_z = -0.14;  // default rig: cube half + shaft
+  glm::dmat4 m = glm::rotate(glm::dmat4(1.0), 0.35, glm::dvec3(1, 0.3, 0));
+  const glm::dvec3 tip_in_tank(-0.03, 0.01, tank.water_level - tip_depth);
+  const glm::dvec3 tip_offset = glm::dmat3(m) * glm::dvec3(0, 0, tip_in_pen_z);
+  m[3] = glm::dvec4(tip_in_tank - tip_offset, 1.0);
+  return m;
+}
+
+TestScene SceneWithOccluders(View view) {
+  TestScene s = MakeScene(kW, kH, view, false);
+  s.inputs.pen_visible = true;
+  s.inputs.tank_from_pen = PenPose(s.inputs.tank, 0.008);
+  Obstacle pillar;
+  pillar.tank_from_obstacle[3] = glm::dvec4(0.045, 0.015, 0.0, 1.0);
+  s.inputs.obstacles.push_back(pillar);
+  s.inputs.effects.caustics = false;
+  return s;
+}
+
+TEST(EffectsTest, ShadowOnAndOff) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  s.inputs.effects.pen_occludes = false;  // the video has no pen here
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat on = RenderScene(r.get(), s.inputs);
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+  s.inputs.effects.shadows = false;
+  const cv::Mat off = RenderScene(r.get(), s.inputs);
+  EXPECT_FALSE(r->timings().shadow_redrawn);
+  EXPECT_TRUE(MatchesGolden(on, "shadow_on"));
+  EXPECT_TRUE(MatchesGolden(off, "shadow_off"));
+  EXPECT_GT(MeanDiff(on, off), 0.5) << "the shadow should show";
+}
+
+TEST(EffectsTest, CausticsFromSingleRipple) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = MakeScene(kW, kH, View::kTop, true);
+  s.inputs.effects.shadows = false;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat on = RenderScene(r.get(), s.inputs);
+  EXPECT_TRUE(r->timings().caustics_recomputed);
+  s.inputs.effects.caustics = false;
+  const cv::Mat off = RenderScene(r.get(), s.inputs);
+  EXPECT_TRUE(MatchesGolden(on, "caustics_ripple"));
+  EXPECT_GT(MeanDiff(on, off), 0.3) << "the caustics should show";
+}
+
+// The real pen (painted into the video) dips 8 mm into the water: where it
+// is in front of the surface the output is the video itself.
+TEST(EffectsTest, PenDippedIntoWater) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  s.inputs.obstacles.clear();
+  testing::PaintPen(s.k, s.inputs.cam_from_tank, s.inputs.tank_from_pen,
+                    s.inputs.pen, &s.video);
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat with_phantom = RenderScene(r.get(), s.inputs);
+  EXPECT_TRUE(MatchesGolden(with_phantom, "pen_dipped"));
+
+  // A shaft point 4 mm above the surface, on the camera's side, whose pixel
+  // looks at the water behind the pen.
+  const glm::dvec3 cam(glm::inverse(s.inputs.cam_from_tank)[3]);
+  const glm::dmat4& pen = s.inputs.tank_from_pen;
+  const double z_pen =
+      (s.inputs.tank.water_level + 0.004 - pen[3].z) / pen[2].z;
+  const glm::dvec3 axis_point(pen * glm::dvec4(0, 0, z_pen, 1));
+  const glm::dvec3 to_cam = glm::normalize(cam - axis_point);
+  const glm::dvec3 surface_point =
+      axis_point + to_cam * (0.8 * s.inputs.pen.shaft_radius);
+  const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(surface_point, 1);
+  const int u = static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx));
+  const int v = static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy));
+  const cv::Mat video(kH, kW, CV_8UC3, s.video.data());
+  EXPECT_EQ(with_phantom.at<cv::Vec3b>(v, u), video.at<cv::Vec3b>(v, u))
+      << "the pen in front of the water shows the video";
+  s.inputs.effects.pen_occludes = false;
+  const cv::Mat without = RenderScene(r.get(), s.inputs);
+  EXPECT_NE(without.at<cv::Vec3b>(v, u), video.at<cv::Vec3b>(v, u))
+      << "without the phantom the water covers the pen";
+}
+
+// The shadow map is redrawn only when an occluder moved by more than the
+// threshold or the light changed; caustics only when the surface changed.
+// An idle scene skips both.
+TEST(EffectsTest, RedrawsOnlyWhenInputsChange) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  s.inputs.effects.caustics = true;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  SceneInputs& in = s.inputs;
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+  EXPECT_TRUE(r->timings().caustics_recomputed);
+
+  ASSERT_TRUE(r->Render(in));  // idle
+  EXPECT_FALSE(r->timings().shadow_redrawn);
+  EXPECT_FALSE(r->timings().caustics_recomputed);
+  EXPECT_EQ(r->timings().shadow_ms, 0.0);
+  EXPECT_EQ(r->timings().caustics_ms, 0.0);
+
+  // Jitter: 0.4 mm and 0.2 degrees, twice (not accumulating past 1 mm).
+  const glm::dmat4 rest = in.tank_from_pen;
+  in.tank_from_pen = glm::rotate(rest, 0.0035, glm::dvec3(0, 1, 0));
+  in.tank_from_pen[3].x += 0.0004;
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_FALSE(r->timings().shadow_redrawn);
+  in.tank_from_pen = rest;
+  in.tank_from_pen[3].y -= 0.0004;
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_FALSE(r->timings().shadow_redrawn);
+
+  in.tank_from_pen[3].y -= 0.002;  // a real move
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+  EXPECT_FALSE(r->timings().caustics_recomputed);
+
+  in.obstacles[0].tank_from_obstacle[3].x += 0.005;
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+
+  in.light_in_tank = {0.1, 0.3, 1.0};  // light: both
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+  EXPECT_TRUE(r->timings().caustics_recomputed);
+
+  in.water.change_counter++;  // surface: caustics only
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_FALSE(r->timings().shadow_redrawn);
+  EXPECT_TRUE(r->timings().caustics_recomputed);
+
+  in.pen_visible = false;  // pen leaves the view
+  ASSERT_TRUE(r->Render(in));
+  EXPECT_TRUE(r->timings().shadow_redrawn);
+}
+
+}  // namespace
+}  // namespace ripple::render

@@ -759,6 +759,12 @@ void Renderer::Impl::UpdateCaustics(const SceneInputs& scene) {
   CausticsOptions co;
   co.map_nx = co.map_ny = options.caustics_map_size;
   co.threads = options.caustics_threads;
+  // Light loses the water's mean absorption on its way down (Nishita's
+  // attenuation along the refracted path); the map is relative to flat water.
+  co.attenuation_per_m =
+      (options.absorption_per_m.x + options.absorption_per_m.y +
+       options.absorption_per_m.z) /
+      3.0;
   ComputeCaustics(co, w, scene.tank, l, &caustics_map, nullptr,
                   &caustics_workspace);
   glBindTexture(GL_TEXTURE_2D, caustics_tex.id());

@@ -40,7 +40,7 @@ struct RendererOptions {
   int surface_grid = 32;
   int shadow_map_size = 512;    // texels per side
   int caustics_map_size = 256;  // texels per side, over the tank floor
-  int caustics_threads = 1;     // CPU threads for the caustics map
+  int caustics_threads = 2;     // CPU threads for the caustics map
   // The shadow map is redrawn only when an occluder moved relative to the
   // tank by more than these since the last redraw, or the light changed.
   double shadow_move_threshold_m = 0.001;

@@ -286,7 +286,7 @@ struct BenchArgs {
   std::string rig = DefaultRigPath();
   std::string out = "bench_tracking";
   std::vector<std::string> sizes = {"640x480", "1280x720"};
-  std::string sweep = "full";
+  std::string sweep = "short";
   int frames = 500;
   int threads = 1;
   uint64_t seed = 1;

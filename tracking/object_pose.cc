@@ -16,8 +16,8 @@ constexpr double kDegToRad = M_PI / 180.0;
 
 struct CornerCost {
   CornerCost(const Camera* camera, const Eigen::Vector3d& x_in_object,
-             const Eigen::Vector2d& observed)
-      : camera(camera), x(x_in_object), obs(observed) {}
+             const Eigen::Vector2d& observed, double scale)
+      : camera(camera), x(x_in_object), obs(observed), scale(scale) {}
 
   template <typename T>
   bool operator()(const T* q, const T* t, T* residual) const {
@@ -26,14 +26,15 @@ struct CornerCost {
     const Eigen::Matrix<T, 3, 1> p = rotation * x.cast<T>() + translation;
     if (!(p.z() > T(1e-6))) return false;
     const Eigen::Matrix<T, 2, 1> uv = camera->Project(p);
-    residual[0] = uv.x() - T(obs.x());
-    residual[1] = uv.y() - T(obs.y());
+    residual[0] = (uv.x() - T(obs.x())) * scale;
+    residual[1] = (uv.y() - T(obs.y())) * scale;
     return true;
   }
 
   const Camera* camera;
   Eigen::Vector3d x;
   Eigen::Vector2d obs;
+  double scale;  // square root of the corner's weight
 };
 
 bool InFront(const std::vector<TagObservation>& observations,
@@ -101,9 +102,16 @@ Pose Refine(const PoseEstimatorOptions& options, const Camera& camera,
   problem_options.manifold_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
   for (const TagObservation& o : observations) {
+    double scale = 1.0;
+    if (options.weight_by_view_angle && observations.size() > 1) {
+      const Pose cam_from_tag = initial * o.object_from_tag;
+      const double c =
+          cam_from_tag.R().col(2).dot(cam_from_tag.translation.normalized());
+      scale = std::clamp(c, 0.05, 1.0);  // weight c^2
+    }
     for (int k = 0; k < 4; ++k) {
       auto* cost = new ceres::AutoDiffCostFunction<CornerCost, 2, 4, 3>(
-          new CornerCost(&camera, o.corners_in_object[k], o.pixels[k]));
+          new CornerCost(&camera, o.corners_in_object[k], o.pixels[k], scale));
       problem.AddResidualBlock(cost, loss.get(), q, t);
     }
   }

@@ -50,6 +50,11 @@ struct PoseEstimatorOptions {
   // cost wins (the two-fold ambiguity of a single square).
   double distinct_deg = 10.0;
   double ambiguity_ratio = 4.0;
+  // Weight each tag's corners by cos^2 of its viewing angle (at the starting
+  // pose): corners of a tag seen edge-on are localised worse (foreshortened
+  // cells, blur across the short edges), so a face at grazing incidence
+  // should not pull a multi-face pose as hard as a frontal one.
+  bool weight_by_view_angle = true;
 
   bool IsValid(std::string* error) const;
 };

@@ -83,7 +83,7 @@ struct WaterOptions {
   // r, metres; small r gives high frequencies. The Gaussian's sigma is
   // max(0.2*r, cell/2) so that a tip between cell centres is never lost.
   double pen_radius_m = 0.01;
-  // Rest: when max|v| < rest_speed and max|h - mean| < rest_height and
+  // Rest: when max|v| <= rest_speed and max|h - mean| <= rest_height and
   // nothing touches the water, the surface is snapped flat and Advance()
   // does nothing until it is woken.
   double rest_speed_m_per_s = 1e-3;

@@ -55,8 +55,26 @@ class Context {
   virtual bool MakeCurrent() = 0;
   // GLFW: swaps the window's buffers and polls events; others: no-op.
   virtual void SwapBuffers() {}
+  // GLFW: processes pending window events (keys, resize, close) without
+  // drawing, e.g. while the app is paused; others: no-op.
+  virtual void PollEvents() {}
   // GLFW: the user closed the window; others: false.
   virtual bool ShouldClose() const { return false; }
+  // Keys typed since the last call, oldest first, as Unicode code points
+  // (so 'v' and 'V' differ), plus 27 for Escape and 32 for Space on press.
+  // Events arrive in SwapBuffers() (Renderer::Present) and PollEvents().
+  // Headless backends: always empty.
+  virtual std::vector<int> TakeTypedKeys() { return {}; }
+  // Size in pixels of the visible framebuffer: GLFW's current window
+  // framebuffer (it changes when the user resizes the window), otherwise
+  // width() x height().
+  virtual void GetFramebufferSize(int* width, int* height) const {
+    *width = width_;
+    *height = height_;
+  }
+  // GLFW: asks the window system for a new window size (screen
+  // coordinates); others: no-op. The user can resize the window too.
+  virtual void SetWindowSize(int /*width*/, int /*height*/) {}
   // GL name of the framebuffer that shows or holds the output (0), or -1
   // when the backend has none (EGL surfaceless).
   virtual int DefaultFramebuffer() const { return -1; }

@@ -1,9 +1,12 @@
-// GLFW window backend, for `ripple live` and friends. The window is not
-// resizable: the Renderer's FBO has the camera's size and is blitted 1:1.
+// GLFW window backend, for `ripple live` and friends. The window is
+// resizable: Renderer::Present scales the camera-sized FBO into whatever
+// framebuffer the window has now, letterboxed.
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "render/context_internal.h"
 #include "render/gl_loader.h"
@@ -53,8 +56,18 @@ class GlfwContext final : public ContextBase {
     glfwSwapBuffers(window_);
     glfwPollEvents();
   }
+  void PollEvents() override { glfwPollEvents(); }
   bool ShouldClose() const override { return glfwWindowShouldClose(window_); }
   int DefaultFramebuffer() const override { return 0; }
+  std::vector<int> TakeTypedKeys() override {
+    return std::exchange(typed_, {});
+  }
+  void GetFramebufferSize(int* width, int* height) const override {
+    glfwGetFramebufferSize(window_, width, height);
+  }
+  void SetWindowSize(int width, int height) override {
+    glfwSetWindowSize(window_, width, height);
+  }
 
  private:
   bool InitWindow(bool visible) {
@@ -66,18 +79,40 @@ class GlfwContext final : public ContextBase {
     glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
     glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
     glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-    glfwWindowHint(GLFW_RESIZABLE, GLFW_FALSE);
+    glfwWindowHint(GLFW_RESIZABLE, GLFW_TRUE);
     glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
     glfwWindowHint(GLFW_DEPTH_BITS, 0);
     window_ = glfwCreateWindow(width(), height(), "Ripple", nullptr, nullptr);
     if (window_ == nullptr) return false;
     glfwMakeContextCurrent(window_);
     glfwSwapInterval(0);
+    glfwSetWindowUserPointer(window_, this);
+    glfwSetCharCallback(window_, &OnChar);
+    glfwSetKeyCallback(window_, &OnKey);
     return true;
+  }
+
+  static GlfwContext* Self(GLFWwindow* window) {
+    return static_cast<GlfwContext*>(glfwGetWindowUserPointer(window));
+  }
+  // Text input: the code point after layout and Shift, so 'v' != 'V'. Space
+  // comes from OnKey instead, so that it is reported once even with
+  // modifiers held (which suppress character events).
+  static void OnChar(GLFWwindow* window, unsigned int codepoint) {
+    if (codepoint == 32) return;
+    Self(window)->typed_.push_back(static_cast<int>(codepoint));
+  }
+  // Escape has no character; Space is taken here (see OnChar).
+  static void OnKey(GLFWwindow* window, int key, int /*scancode*/, int action,
+                    int /*mods*/) {
+    if (action != GLFW_PRESS) return;
+    if (key == GLFW_KEY_ESCAPE) Self(window)->typed_.push_back(27);
+    if (key == GLFW_KEY_SPACE) Self(window)->typed_.push_back(32);
   }
 
   GLFWwindow* window_ = nullptr;
   bool initialised_ = false;
+  std::vector<int> typed_;  // since the last TakeTypedKeys()
 };
 
 }  // namespace

@@ -43,6 +43,7 @@ enum Unit : int {
   kUnitVideo = 5,
   kUnitMap = 6,
   kUnitReceiver = 7,
+  kUnitOverlay = 8,
 };
 
 constexpr int kReceiverSize = 128;  // shadow receiver map texels per side
@@ -225,7 +226,7 @@ struct Renderer::Impl {
 
   std::map<int, Program> water_programs;  // by WaterVariant bits
   Program solid_program, depth_program, water_depth_program, walls_programs[2],
-      undistort_program, receiver_program;
+      undistort_program, receiver_program, overlay_program;
   VertexArray empty_vao;
   Mesh box, cylinder;
   VertexArray grid_vao;
@@ -245,6 +246,9 @@ struct Renderer::Impl {
   int video_w = 0, video_h = 0;
   bool have_video = false;
   Buffer pbo;
+  // HUD overlay (BGRA8 -> RGBA8 texture), drawn by Present().
+  Texture overlay_tex;
+  int overlay_w = 0, overlay_h = 0;
 
   // Height field.
   Texture height_tex;
@@ -283,6 +287,7 @@ struct Renderer::Impl {
   bool ShadowNeedsRedraw(const SceneInputs& scene) const;
   void DrawShadow(const SceneInputs& scene);
   void UpdateCaustics(const SceneInputs& scene);
+  GLuint DrawVideoBackground(bool reflection);
   void DrawMain(const SceneInputs& scene);
   glm::ivec4 WaterRect(const SceneInputs& scene,
                        const glm::dmat4& clip_from_tank) const;
@@ -309,7 +314,8 @@ bool Renderer::Impl::Init(std::string* error) {
       !build(&undistort_program, "undistort", "fullscreen.vert",
              "undistort.frag") ||
       !build(&receiver_program, "shadow_receiver", "fullscreen.vert",
-             "shadow_receiver.frag")) {
+             "shadow_receiver.frag") ||
+      !build(&overlay_program, "overlay", "overlay.vert", "overlay.frag")) {
     return false;
   }
   // The default variant, so that shader errors surface here.
@@ -836,11 +842,11 @@ glm::ivec4 Renderer::Impl::WaterRect(const SceneInputs& scene,
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
-void Renderer::Impl::DrawMain(const SceneInputs& scene) {
+// Background: the (undistorted) video, copied into the output FBO (and the
+// quarter-size reflection map when `reflection`). Returns the texture that
+// holds the background for refraction lookups, 0 without any video yet.
+GLuint Renderer::Impl::DrawVideoBackground(bool reflection) {
   const int w = k.width, h = k.height;
-  const glm::dmat4 clip_from_tank = ClipFromCam(k) * scene.cam_from_tank;
-
-  // Background: the (undistorted) video, copied into the output.
   GLuint scene_fbo = 0, scene_tex = 0;
   if (have_video) {
     scene_fbo = video_fbo.id();
@@ -866,12 +872,20 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, main_fbo.id());
     glBlitFramebuffer(0, 0, video_w, video_h, 0, 0, w, h, GL_COLOR_BUFFER_BIT,
                       GL_LINEAR);
-    if (scene.effects.reflection) {
+    if (reflection) {
       glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reflection_fbo.id());
       glBlitFramebuffer(0, 0, video_w, video_h, 0, 0, std::max(1, w / 4),
                         std::max(1, h / 4), GL_COLOR_BUFFER_BIT, GL_LINEAR);
     }
   }
+  return scene_tex;
+}
+
+void Renderer::Impl::DrawMain(const SceneInputs& scene) {
+  const int w = k.width, h = k.height;
+  const glm::dmat4 clip_from_tank = ClipFromCam(k) * scene.cam_from_tank;
+
+  GLuint scene_tex = DrawVideoBackground(scene.effects.reflection);
   glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
   glViewport(0, 0, w, h);
   glClearDepth(1.0);
@@ -1127,16 +1141,128 @@ bool Renderer::ReadBgr(std::uint8_t* bgr, int stride_bytes) {
   return CheckGlError("Renderer::ReadBgr") && ok;
 }
 
+bool Renderer::RenderVideoOnly(const VideoFrame& video) {
+  Impl& m = *impl_;
+  const auto t_start = Clock::now();
+  m.timings = PassTimings{};
+  m.timings.timing = m.options.timing;
+  m.UploadVideo(video);
+  m.timings.upload_ms = MsSince(t_start);
+  const auto t0 = Clock::now();
+  m.BeginPass(1);
+  m.DrawVideoBackground(false);
+  if (!m.have_video) {
+    glBindFramebuffer(GL_FRAMEBUFFER, m.main_fbo.id());
+    glClearColor(0.f, 0.f, 0.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  m.timings.main_ms = m.EndPass(1, t0);
+  if (m.options.timing == RendererOptions::Timing::kGpuQueries) {
+    GLuint64 ns = 0;
+    glGetQueryObjectui64v(m.queries[1].id(), GL_QUERY_RESULT, &ns);
+    m.timings.main_ms = ns * 1e-6;
+  }
+  m.timings.total_ms = MsSince(t_start);
+  return CheckGlError("Renderer::RenderVideoOnly");
+}
+
+void Renderer::SetOverlay(const std::uint8_t* bgra, int width, int height,
+                          int stride_bytes) {
+  Impl& m = *impl_;
+  if (bgra == nullptr || width <= 0 || height <= 0) {
+    m.overlay_w = m.overlay_h = 0;
+    return;
+  }
+  if (stride_bytes <= 0) stride_bytes = width * 4;
+  if (width != m.overlay_w || height != m.overlay_h ||
+      m.overlay_tex.id() == 0) {
+    AllocTexture(&m.overlay_tex, GL_RGBA8, width, height, GL_BGRA,
+                 GL_UNSIGNED_BYTE, GL_NEAREST, GL_CLAMP_TO_EDGE);
+    m.overlay_w = width;
+    m.overlay_h = height;
+  }
+  glBindTexture(GL_TEXTURE_2D, m.overlay_tex.id());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  if (stride_bytes % 4 == 0) {
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, stride_bytes / 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, width, height, GL_BGRA,
+                    GL_UNSIGNED_BYTE, bgra);
+  } else {
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    for (int y = 0; y < height; ++y) {
+      glTexSubImage2D(GL_TEXTURE_2D, 0, 0, y, width, 1, GL_BGRA,
+                      GL_UNSIGNED_BYTE,
+                      bgra + static_cast<size_t>(y) * stride_bytes);
+    }
+  }
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  CheckGlError("Renderer::SetOverlay");
+}
+
+glm::ivec4 LetterboxRect(int image_width, int image_height, int window_width,
+                         int window_height) {
+  if (image_width <= 0 || image_height <= 0 || window_width <= 0 ||
+      window_height <= 0) {
+    return {0, 0, 0, 0};
+  }
+  // Fit the width or the height, whichever binds, in integer arithmetic.
+  int w = window_width, h = window_height;
+  if (static_cast<long long>(window_width) * image_height >
+      static_cast<long long>(window_height) * image_width) {
+    w = static_cast<int>((static_cast<long long>(window_height) * image_width +
+                          image_height / 2) /
+                         image_height);
+  } else {
+    h = static_cast<int>((static_cast<long long>(window_width) * image_height +
+                          image_width / 2) /
+                         image_width);
+  }
+  return {(window_width - w) / 2, (window_height - h) / 2, w, h};
+}
+
 void Renderer::Present() {
   Impl& m = *impl_;
   const int fb = m.context->DefaultFramebuffer();
   if (fb < 0) return;
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, m.main_fbo.id());
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(fb));
-  // The window shows GL row 0 at the bottom: flip the top-first image.
-  glBlitFramebuffer(0, 0, m.k.width, m.k.height, 0, m.context->height(),
-                    m.context->width(), 0, GL_COLOR_BUFFER_BIT, GL_LINEAR);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  int fw = 0, fh = 0;
+  m.context->GetFramebufferSize(&fw, &fh);
+  if (fw > 0 && fh > 0) {  // 0 x 0 while minimised
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(fb));
+    glDisable(GL_SCISSOR_TEST);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    glViewport(0, 0, fw, fh);
+    glClearColor(0.f, 0.f, 0.f, 1.f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    const glm::ivec4 r = LetterboxRect(m.k.width, m.k.height, fw, fh);
+    // GL rows count from the bottom; the FBO holds the image top row first,
+    // so the blit flips it.
+    const int y_bottom = fh - r.y - r.w;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, m.main_fbo.id());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, static_cast<GLuint>(fb));
+    glBlitFramebuffer(0, 0, m.k.width, m.k.height, r.x, y_bottom + r.w,
+                      r.x + r.z, y_bottom, GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    if (m.overlay_w > 0 && m.overlay_h > 0) {
+      glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(fb));
+      // 1:1 framebuffer pixels at the top-left corner.
+      glViewport(0, fh - m.overlay_h, m.overlay_w, m.overlay_h);
+      glDisable(GL_DEPTH_TEST);
+      glDisable(GL_STENCIL_TEST);
+      glEnable(GL_BLEND);
+      glBlendFuncSeparate(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA, GL_ONE,
+                          GL_ONE_MINUS_SRC_ALPHA);
+      glUseProgram(m.overlay_program.id());
+      SetInt(m.overlay_program, "u_overlay", kUnitOverlay);
+      glActiveTexture(GL_TEXTURE0 + kUnitOverlay);
+      glBindTexture(GL_TEXTURE_2D, m.overlay_tex.id());
+      glBindVertexArray(m.empty_vao.id());
+      glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
+      glBindVertexArray(0);
+      glDisable(GL_BLEND);
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    CheckGlError("Renderer::Present");
+  }
   m.context->SwapBuffers();
 }
 

@@ -20,6 +20,14 @@
 //   scene.water = {sim.heights(), nx, ny, d, sim.change_counter()};
 //   renderer->Render(scene);
 //   renderer->ReadBgr(out.data, out.step);   // or renderer->Present();
+//
+// In a window (GLFW), once per frame:
+//   if (hud_changed) renderer->SetOverlay(hud.data, hud.cols, hud.rows,
+//                                         hud.step);
+//   tracked ? renderer->Render(scene) : renderer->RenderVideoOnly(video);
+//   renderer->Present();               // scaled, letterboxed, HUD on top
+//   for (int key : ctx->TakeTypedKeys()) ...;
+//   if (ctx->ShouldClose()) break;
 #ifndef RIPPLE_RENDER_RENDERER_H_
 #define RIPPLE_RENDER_RENDERER_H_
 
@@ -77,6 +85,14 @@ struct PassTimings {
   RendererOptions::Timing timing = RendererOptions::Timing::kNone;
 };
 
+// Where Present() puts an image_width x image_height frame in a window
+// framebuffer of window_width x window_height pixels: (x, y, width, height)
+// with (x, y) the top-left corner counted from the window's top-left, the
+// largest rectangle of the image's aspect ratio, centred. Zero-size for
+// empty inputs.
+glm::ivec4 LetterboxRect(int image_width, int image_height, int window_width,
+                         int window_height);
+
 class Renderer {
  public:
   ~Renderer();
@@ -100,12 +116,34 @@ class Renderer {
   // stderr in debug builds) if GL reported an error.
   bool Render(const SceneInputs& scene);
 
+  // Draws only the video into the FBO: the background of Render(),
+  // undistorted the same way, without water, tank, pen or effects. For
+  // frames where the tank is not tracked. Without any video so far the
+  // frame is black. Timings: upload_ms, main_ms, total_ms.
+  bool RenderVideoOnly(const VideoFrame& video);
+
   // Copies the last frame as BGR8, top row first, into `bgr` (rows of
   // `stride_bytes`, 0 = width * 3). Blocks until the frame is finished. Uses
   // OSMesa's own buffer on OSMesa, a pixel-pack buffer otherwise.
   bool ReadBgr(std::uint8_t* bgr, int stride_bytes = 0);
 
-  // Shows the last frame in the window (GLFW) and swaps; no-op headless.
+  // Sets the HUD overlay that Present() draws over the frame: BGRA8
+  // (B, G, R, A bytes per pixel), top row first, rows of `stride_bytes`
+  // (0 = width * 4), straight (non-premultiplied) alpha. The pixels are
+  // copied into a texture now, so call it only when the HUD changes; the
+  // buffer may be freed afterwards. nullptr (or an empty size) clears it.
+  // Headless backends keep it but never show it.
+  void SetOverlay(const std::uint8_t* bgra, int width, int height,
+                  int stride_bytes = 0);
+
+  // GLFW: shows the last frame (Render or RenderVideoOnly) in the window,
+  // scaled with linear filtering to the window's current framebuffer size
+  // keeping its aspect ratio (black bars; see LetterboxRect), then
+  // alpha-blends the overlay from SetOverlay at the window's top-left corner
+  // at 1:1 framebuffer pixels (not scaled with the frame), swaps buffers and
+  // polls window events. No-op on headless backends. There are no overlay
+  // parameters here by design: the overlay is uploaded by SetOverlay only
+  // when it changes, and Present() may run every frame.
   void Present();
 
   // Waits until the GPU finished the last frame (for benchmarks).

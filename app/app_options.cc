@@ -1,0 +1,94 @@
+#include "app/app_options.h"
+
+#include <cmath>
+#include <cstdio>
+
+namespace ripple::app {
+
+void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
+  PipelineOptions& o = args->options;
+  sub->add_option("--gl", args->gl,
+                  "GL backend: glfw (window), egl or osmesa (headless)");
+  sub->add_option("--sim-cells", o.sim_cells_x,
+                  "Water cells along the tank's long side")
+      ->capture_default_str();
+  sub->add_option("--wave-speed", o.water.wave_speed_m_per_s,
+                  "Wave speed c, m/s")
+      ->capture_default_str();
+  sub->add_option(
+         "--viscosity", o.water.viscosity_per_s,
+         "Velocity damping, 1/s (amplitude decays as exp(-viscosity*t/2))")
+      ->capture_default_str();
+  sub->add_option("--force", o.water.pen_strength_m_per_s2,
+                  "Pen force s, m/s^2")
+      ->capture_default_str();
+  sub->add_option("--radius", o.water.pen_radius_m,
+                  "Pen push radius r, m (small r: high frequency)")
+      ->capture_default_str();
+  sub->add_flag("--no-caustics", args->no_caustics,
+                "Disable the caustics pass");
+  sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
+  sub->add_flag("--no-reflection", args->no_reflection, "Disable reflection");
+  sub->add_flag("--no-refraction", args->no_refraction, "Disable refraction");
+}
+
+bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
+                           std::string* error) {
+  const std::string gl = args->gl.empty() ? default_gl : args->gl;
+  const auto backend = render::ParseBackend(gl);
+  if (!backend) {
+    if (error) *error = "--gl '" + gl + "': use glfw, egl or osmesa";
+    return false;
+  }
+  PipelineOptions& o = args->options;
+  o.backend = *backend;
+  o.window = *backend == render::Backend::kGlfw;
+  o.effects.caustics = !args->no_caustics;
+  o.effects.shadows = !args->no_shadows;
+  o.effects.reflection = !args->no_reflection;
+  o.effects.refraction = !args->no_refraction;
+  o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
+  return o.IsValid(error);
+}
+
+bool MatchCameraToFrames(cv::Size frames, const std::string& camera_path,
+                         tracking::Camera* camera, std::string* error) {
+  if (frames.width == camera->width && frames.height == camera->height)
+    return true;
+  const double a = double(frames.width) / frames.height;
+  const double b = double(camera->width) / camera->height;
+  if (std::abs(a - b) < 1e-3) {
+    std::fprintf(stderr,
+                 "ripple: warning: frames are %dx%d but '%s' is calibrated at "
+                 "%dx%d; scaling the "
+                 "intrinsics\n",
+                 frames.width, frames.height, camera_path.c_str(),
+                 camera->width, camera->height);
+    *camera = camera->Scaled(frames.width, frames.height);
+    return true;
+  }
+  if (error)
+    *error = "frames are " + std::to_string(frames.width) + "x" +
+             std::to_string(frames.height) + " but camera file '" +
+             camera_path + "' is calibrated at " +
+             std::to_string(camera->width) + "x" +
+             std::to_string(camera->height) +
+             " (another aspect ratio): calibrate this size with `ripple calib "
+             "camera`";
+  return false;
+}
+
+void PrintProgress(int done, int total, double fps) {
+  const int width = 30;
+  if (total > 0) {
+    const int filled = std::min(width, done * width / total);
+    std::fprintf(stderr, "\r[%.*s%s%*s] %d/%d frames %.1f fps", filled,
+                 "==============================", filled < width ? ">" : "",
+                 std::max(0, width - filled - 1), "", done, total, fps);
+  } else {
+    std::fprintf(stderr, "\r%d frames %.1f fps", done, fps);
+  }
+  std::fflush(stderr);
+}
+
+}  // namespace ripple::app

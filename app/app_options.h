@@ -1,0 +1,40 @@
+// Command-line options shared by the pipeline commands (live, replay): GL
+// backend, water and effects settings, with their units in the help text.
+#ifndef RIPPLE_APP_APP_OPTIONS_H_
+#define RIPPLE_APP_APP_OPTIONS_H_
+
+#include <CLI/CLI.hpp>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "app/app_pipeline.h"
+
+namespace ripple::app {
+
+struct PipelineArgs {
+  std::string gl;  // empty: the command's default
+  PipelineOptions options;
+  bool no_caustics = false, no_shadows = false, no_reflection = false,
+       no_refraction = false;
+};
+
+// Adds --gl, --sim-cells, --wave-speed, --viscosity, --force, --radius,
+// --pen-mode, --no-caustics, ... to `sub`.
+void AddPipelineOptions(CLI::App* sub, PipelineArgs* args);
+
+// Resolves the backend and toggles into args->options; false with `error`.
+bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
+                           std::string* error);
+
+// Checks a frame size against the calibration. Same size: ok. Same aspect
+// ratio: the intrinsics are scaled, with a warning on stderr. Otherwise
+// false with a message naming both sizes.
+bool MatchCameraToFrames(cv::Size frames, const std::string& camera_path,
+                         tracking::Camera* camera, std::string* error);
+
+// A one-line progress bar on stderr: "[=====>    ] 45/99 frames 31.2 fps".
+void PrintProgress(int done, int total, double fps);
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_OPTIONS_H_

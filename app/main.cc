@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <exception>
 #include <iostream>
+#include <opencv2/core/utils/logger.hpp>
 
 #include "app/command.h"
 
@@ -22,6 +23,9 @@ int Fail(int code, const std::string& message) {
 
 int main(int argc, char** argv) {
   using namespace ripple::app;
+  // OpenCV's backend chatter (GStreamer, V4L2 probing) is not for users; our
+  // own messages say what failed.
+  cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
   CLI::App app{
       "Ripple: marker-tracked tabletop AR water.\n"
       "Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input "

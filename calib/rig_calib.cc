@@ -1,6 +1,7 @@
 #include "calib/rig_calib.h"
 
 #include <ceres/ceres.h>
+#include <ceres/manifold.h>
 #include <ceres/rotation.h>
 
 #include <algorithm>
@@ -235,6 +236,12 @@ bool CalibrateTagLayout(
     }
   }
   problem.SetParameterBlockConstant(tag_delta[reference].data());
+  if (options.in_plane_only) {
+    // Delta components: rotation x, y and translation z leave the plane.
+    for (auto& [id, d] : tag_delta)
+      if (id != reference)
+        problem.SetManifold(d.data(), new ceres::SubsetManifold(6, {0, 1, 5}));
+  }
 
   ceres::Solver::Options solver;
   solver.linear_solver_type = ceres::DENSE_SCHUR;

@@ -37,6 +37,12 @@ struct RigCalibOptions {
   // A view whose initial pose (nominal layout) has a corner RMS above this
   // is dropped before the adjustment (a wrong detection or a bad branch).
   double max_initial_rmse_px = 8.0;
+  // Tags stay in their nominal plane: only the in-plane translation and the
+  // rotation about the tag normal are refined (3 degrees of freedom instead
+  // of 6). Right for a flat printed board, where a hand-held video's narrow
+  // baseline leaves the out-of-plane components poorly observed; wrong for
+  // cube faces glued by hand.
+  bool in_plane_only = false;
   double loss_scale_px = 1.0;  // Huber scale, pixels
   int max_iterations = 100;
 

@@ -1,0 +1,188 @@
+#include "app/app_source.h"
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+#include <opencv2/videoio.hpp>
+#include <vector>
+
+namespace ripple::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+cv::Mat ToBgr(const cv::Mat& image) {
+  cv::Mat bgr;
+  if (image.channels() == 1)
+    cv::cvtColor(image, bgr, cv::COLOR_GRAY2BGR);
+  else if (image.channels() == 4)
+    cv::cvtColor(image, bgr, cv::COLOR_BGRA2BGR);
+  else
+    bgr = image;
+  if (bgr.depth() != CV_8U) bgr.convertTo(bgr, CV_8U, 255.0 / 65535.0);
+  return bgr;
+}
+
+bool IsImageFile(const fs::path& p) {
+  std::string ext = p.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
+  for (const char* e : {".png", ".jpg", ".jpeg", ".bmp", ".tif", ".tiff",
+                        ".pgm", ".ppm", ".webp"})
+    if (ext == e) return true;
+  return false;
+}
+
+class FolderSource : public FrameSource {
+ public:
+  FolderSource(const std::string& spec, std::vector<std::string> files,
+               double fps)
+      : FrameSource(Kind::kFolder, spec), files_(std::move(files)), fps_(fps) {}
+
+  bool Read(cv::Mat* bgr, double* time_s) override {
+    if (!error_.empty() || next_ >= files_.size()) return false;
+    const cv::Mat image = cv::imread(files_[next_], cv::IMREAD_UNCHANGED);
+    if (image.empty()) {
+      error_ = "cannot read image '" + files_[next_] + "'";
+      return false;
+    }
+    *bgr = ToBgr(image);
+    if (size_.area() == 0) size_ = bgr->size();
+    if (bgr->size() != size_) {
+      error_ = "image '" + files_[next_] +
+               "' has a different size from the "
+               "first image of '" +
+               spec_ + "'";
+      return false;
+    }
+    *time_s = next_ / fps_;
+    ++next_;
+    ++frames_read_;
+    return true;
+  }
+  int frame_count() const override { return static_cast<int>(files_.size()); }
+
+ private:
+  std::vector<std::string> files_;
+  double fps_;
+  size_t next_ = 0;
+};
+
+class CaptureSource : public FrameSource {
+ public:
+  CaptureSource(Kind kind, const std::string& spec,
+                std::unique_ptr<cv::VideoCapture> capture)
+      : FrameSource(kind, spec), capture_(std::move(capture)) {
+    if (kind == Kind::kVideo) {
+      const double n = capture_->get(cv::CAP_PROP_FRAME_COUNT);
+      count_ = n > 0 ? static_cast<int>(n) : -1;
+    }
+    start_ = std::chrono::steady_clock::now();
+  }
+
+  bool Read(cv::Mat* bgr, double* time_s) override {
+    if (!error_.empty() || ended_) return false;
+    cv::Mat frame;
+    if (!capture_->read(frame) || frame.empty()) {
+      ended_ = true;
+      if (kind_ == Kind::kCamera) {
+        error_ = "camera '" + spec_ + "' stopped delivering frames";
+      } else if (count_ > 0 && frames_read_ < count_ - 1) {
+        // Containers' counts can be off by one; more missing is a cut.
+        error_ = "video '" + spec_ + "' is truncated: read " +
+                 std::to_string(frames_read_) + " of " +
+                 std::to_string(count_) + " frames";
+      }
+      return false;
+    }
+    *bgr = ToBgr(frame);
+    if (size_.area() == 0) size_ = bgr->size();
+    if (kind_ == Kind::kVideo) {
+      const double ms = capture_->get(cv::CAP_PROP_POS_MSEC);
+      if (frames_read_ == 0) t0_ms_ = ms;
+      *time_s = (ms - t0_ms_) * 1e-3;
+    } else {
+      *time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() -
+                                              start_)
+                    .count();
+    }
+    ++frames_read_;
+    return true;
+  }
+  int frame_count() const override { return count_; }
+
+ private:
+  std::unique_ptr<cv::VideoCapture> capture_;
+  int count_ = -1;
+  bool ended_ = false;
+  double t0_ms_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+bool IsCameraIndex(const std::string& s) {
+  return !s.empty() && s.size() <= 3 &&
+         std::all_of(s.begin(), s.end(),
+                     [](unsigned char c) { return std::isdigit(c); });
+}
+
+}  // namespace
+
+std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
+                                               std::string* error,
+                                               double folder_fps) {
+  std::error_code ec;
+  if (spec.empty()) {
+    *error = "--input is empty";
+    return nullptr;
+  }
+  if (fs::is_directory(spec, ec)) {
+    std::vector<std::string> files;
+    for (const auto& entry : fs::directory_iterator(spec, ec))
+      if (entry.is_regular_file() && IsImageFile(entry.path()))
+        files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end());
+    if (files.empty()) {
+      *error = "input folder '" + spec + "' holds no image files";
+      return nullptr;
+    }
+    return std::make_unique<FolderSource>(spec, std::move(files),
+                                          folder_fps > 0 ? folder_fps : 30.0);
+  }
+  const bool is_device = IsCameraIndex(spec) || spec.rfind("/dev/", 0) == 0;
+  if (!is_device) {
+    if (!fs::exists(spec, ec)) {
+      *error = "input '" + spec + "' does not exist";
+      return nullptr;
+    }
+    auto capture = std::make_unique<cv::VideoCapture>();
+    try {
+      capture->open(spec, cv::CAP_FFMPEG);
+    } catch (const cv::Exception&) {
+    }
+    if (!capture->isOpened()) {
+      *error = "cannot open video '" + spec + "' (not a video OpenCV can read)";
+      return nullptr;
+    }
+    return std::make_unique<CaptureSource>(Kind::kVideo, spec,
+                                           std::move(capture));
+  }
+  auto capture = std::make_unique<cv::VideoCapture>();
+  try {
+    if (IsCameraIndex(spec))
+      capture->open(std::stoi(spec));
+    else
+      capture->open(spec, cv::CAP_V4L2);
+  } catch (const cv::Exception&) {
+  }
+  if (!capture->isOpened()) {
+    *error = "cannot open camera '" + spec + "'";
+    return nullptr;
+  }
+  return std::make_unique<CaptureSource>(Kind::kCamera, spec,
+                                         std::move(capture));
+}
+
+}  // namespace ripple::app

@@ -1,0 +1,64 @@
+// Frame sources for `--input`: a video file, a folder of images, or a camera
+// (index "0" or a device path such as /dev/video0). Shared by every command
+// that reads frames (calib, track, replay, live).
+//
+//   std::string error;
+//   auto source = FrameSource::Open(args.input, &error);
+//   if (!source) return Fail(kExitBadInput, error);       // missing/unreadable
+//   cv::Mat bgr; double t;
+//   while (source->Read(&bgr, &t)) { ... }
+//   if (!source->error().empty()) return Fail(kExitRuntime, source->error());
+#ifndef RIPPLE_APP_APP_SOURCE_H_
+#define RIPPLE_APP_APP_SOURCE_H_
+
+#include <memory>
+#include <opencv2/core.hpp>
+#include <string>
+
+namespace ripple::app {
+
+class FrameSource {
+ public:
+  enum class Kind { kVideo, kFolder, kCamera };
+
+  // Opens `spec`: an existing folder (its image files: png, jpg, jpeg, bmp,
+  // tif, tiff, pgm, ppm, webp, sorted by name), an existing file (a video),
+  // or a camera (a number, or a path under /dev). nullptr with one line in
+  // `error` naming the input when it does not exist, is empty or cannot be
+  // decoded. `folder_fps` sets the timestamps of folder frames.
+  static std::unique_ptr<FrameSource> Open(const std::string& spec,
+                                           std::string* error,
+                                           double folder_fps = 30.0);
+  virtual ~FrameSource() = default;
+
+  // Next frame as 8-bit BGR and its time in seconds from the first frame
+  // (video: the container's timestamps; folder: index / fps; camera: the
+  // steady clock). False at the end of the input, or on a read failure, in
+  // which case error() is non-empty (a truncated video or an unreadable
+  // image in a folder: the caller exits with 1).
+  virtual bool Read(cv::Mat* bgr, double* time_s) = 0;
+
+  const std::string& error() const { return error_; }
+  Kind kind() const { return kind_; }
+  const std::string& spec() const { return spec_; }
+  // Frames read so far.
+  int frames_read() const { return frames_read_; }
+  // Expected frame count (video: the container's; folder: the files);
+  // -1 when unknown (cameras).
+  virtual int frame_count() const { return -1; }
+  // Frame size (0 x 0 when not yet known).
+  cv::Size size() const { return size_; }
+
+ protected:
+  FrameSource(Kind kind, std::string spec)
+      : kind_(kind), spec_(std::move(spec)) {}
+  Kind kind_;
+  std::string spec_;
+  std::string error_;
+  int frames_read_ = 0;
+  cv::Size size_;
+};
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_SOURCE_H_

@@ -92,7 +92,7 @@ Box TagBox(const SheetTag& tag, const FamilyInfo& f) {
                  tag.centre_m + r * Vector2d(half, -half),
                  tag.centre_m + r * Vector2d(half, half),
                  tag.centre_m + r * Vector2d(-half, half)});
-  b.extend(TextBox(TagLabel(tag, f)));
+  if (!tag.label_dir.isZero()) b.extend(TextBox(TagLabel(tag, f)));
   return b;
 }
 
@@ -252,8 +252,10 @@ bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
   if (hx > 0 && hy > 0) {
     const Vector2d c[4] = {to_sheet({-hx, hy, 0}), to_sheet({hx, hy, 0}),
                            to_sheet({hx, -hy, 0}), to_sheet({-hx, -hy, 0})};
-    for (int k = 0; k < 4; ++k)
+    for (int k = 0; k < 4; ++k) {
       sheet->lines.push_back({c[k], c[(k + 1) % 4], SheetLine::Style::kGuide});
+      occupied.push_back(BoxOf({c[k], c[(k + 1) % 4]}));
+    }
   }
   // Check points for `ripple calib check`.
   for (const CheckPoint& p : BoardCheckPoints(rig)) {
@@ -434,8 +436,10 @@ bool MakeCubeNetSheet(const tracking::Rig& rig, const PaperSize& paper,
     tag.centre_m = nf.centre_m + in_page.head<2>();
     tag.angle_rad = std::atan2(r(1, 0), r(0, 0));
     // Label direction (tag image coordinates) pointing at an open edge,
-    // preferring below the tag; placed beyond the face edge.
+    // preferring below the tag; placed beyond the face edge. A face with no
+    // open edge (the middle of the cross) gets a free-standing label.
     const Eigen::Matrix2d page_from_tag2 = Rot2(tag.angle_rad);
+    tag.label_dir.setZero();
     for (const Vector2d& d_tag :
          {Vector2d(0, 1), Vector2d(0, -1), Vector2d(1, 0), Vector2d(-1, 0)}) {
       const Vector2d d_page = page_from_tag2 * d_tag;
@@ -453,6 +457,24 @@ bool MakeCubeNetSheet(const tracking::Rig& rig, const PaperSize& paper,
   }
   sheet->title = "Ripple pen cube net (" + Millimetres(a) + " mm cube, " +
                  rig.family + ") - " + paper.name;
+  for (const SheetTag& tag : sheet->tags)
+    if (!tag.label_dir.isZero()) occupied.push_back(TagBox(tag, f));
+  for (const SheetTag& tag : sheet->tags) {
+    if (!tag.label_dir.isZero()) continue;
+    const NetFace* nf = nullptr;
+    for (const NetFace& face : *faces)
+      if (face.tag_id == tag.id) nf = &face;
+    AddFreeText(sheet, &occupied,
+                "id " + std::to_string(tag.id) + " (the face here)", kLabelSize,
+                nf->centre_m + Vector2d(-a, a));
+    if (!sheet->lines.empty()) {
+      // A leader from the label to the face's corner.
+      const SheetText& t = sheet->texts.back();
+      sheet->lines.push_back({t.at + Vector2d(0, -0.6 * kLabelSize),
+                              nf->centre_m + Vector2d(-0.5 * a, 0.5 * a),
+                              SheetLine::Style::kThin});
+    }
+  }
   Box net;
   for (const Box& b : occupied) net.extend(b);
   occupied.assign(1, net);
@@ -485,34 +507,30 @@ bool MakeChessboardSheet(int cols, int rows, double square_m,
   sheet->width_m = paper.height_m;  // landscape
   sheet->height_m = paper.width_m;
   const double w = (cols + 1) * square_m, h = (rows + 1) * square_m;
-  // Keep a white border of half a square (the detector needs it) and room
-  // for the scale bar.
-  const double need_w = w + square_m + 2 * kSheetMargin;
-  const double need_h = h + square_m + 2 * kSheetMargin + 8 * kMm;
-  if (need_w > sheet->width_m || need_h > sheet->height_m) {
+  // The paper around the board is its white border (the detector needs some
+  // quiet zone: at least the printer margin).
+  if (w + 2 * kSheetMargin > sheet->width_m ||
+      h + 2 * kSheetMargin > sheet->height_m) {
     *error = "a " + std::to_string(cols) + "x" + std::to_string(rows) +
              " chessboard of " + Millimetres(square_m) +
              " mm squares does not fit on " + paper.name;
     return false;
   }
-  const Vector2d o(
-      0.5 * (sheet->width_m - w),
-      kSheetMargin + 0.5 * square_m + 0.5 * (sheet->height_m - need_h));
+  const Vector2d o(0.5 * (sheet->width_m - w), 0.5 * (sheet->height_m - h));
   for (int r = 0; r <= rows; ++r)
     for (int c = 0; c <= cols; ++c)
       if ((r + c) % 2 == 0)
         sheet->black_boxes.emplace_back(o + square_m * Vector2d(c, r),
                                         o + square_m * Vector2d(c + 1, r + 1));
-  std::vector<Box> occupied = {
-      Box(o - Vector2d(0.5, 0.5) * square_m,
-          o + Vector2d(w, h) + Vector2d(0.5, 0.5) * square_m)};
+  const Vector2d pad(2 * kMm, 2 * kMm);
+  std::vector<Box> occupied = {Box(o - pad, o + Vector2d(w, h) + pad)};
   sheet->title = "Ripple calibration chessboard: " + std::to_string(cols) +
                  "x" + std::to_string(rows) + " inner corners, " +
                  Millimetres(square_m) + " mm squares (--chessboard " +
                  std::to_string(cols) + "x" + std::to_string(rows) +
-                 " --square " + Millimetres(square_m / 1e3 * 1e3) + "e-3)";
+                 " --square " + std::to_string(square_m) + ")";
   if (!AddScaleBar(sheet, &occupied,
-                   Vector2d(0.5 * sheet->width_m, sheet->height_m))) {
+                   Vector2d(sheet->width_m, 0.5 * sheet->height_m))) {
     *error = "no room for the 100 mm scale bar on " + paper.name;
     return false;
   }
@@ -598,7 +616,8 @@ void Draw(cairo_t* cr, const Sheet& sheet, const tracking::TagFamily& family,
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
                          CAIRO_FONT_WEIGHT_NORMAL);
   std::vector<SheetText> texts = sheet.texts;
-  for (const SheetTag& tag : sheet.tags) texts.push_back(TagLabel(tag, f));
+  for (const SheetTag& tag : sheet.tags)
+    if (!tag.label_dir.isZero()) texts.push_back(TagLabel(tag, f));
   for (const SheetText& t : texts) {
     cairo_save(cr);
     cairo_set_font_size(cr, t.size_m);
@@ -672,15 +691,19 @@ bool WriteSheet(const Sheet& sheet, const std::string& base, double png_dpi,
   const double w_pt = sheet.width_m * kPtPerM, h_pt = sheet.height_m * kPtPerM;
   auto vector_writer = [&](bool pdf) {
     return [&, pdf](const std::string& temp, std::string* e) {
+      // PDF in points; SVG in millimetres (document unit mm, so the file's
+      // width/height say "297mm" and the viewBox is in mm too).
+      const double scale = pdf ? kPtPerM : 1000.0;
       cairo_surface_t* s =
           pdf ? cairo_pdf_surface_create(temp.c_str(), w_pt, h_pt)
-              : cairo_svg_surface_create(temp.c_str(), w_pt, h_pt);
+              : cairo_svg_surface_create(temp.c_str(), sheet.width_m * 1000.0,
+                                         sheet.height_m * 1000.0);
       if (!pdf) cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_MM);
       if (pdf)
         cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE,
                                        sheet.title.c_str());
       cairo_t* cr = cairo_create(s);
-      cairo_scale(cr, kPtPerM, kPtPerM);
+      cairo_scale(cr, scale, scale);
       Draw(cr, sheet, *family, f);
       cairo_destroy(cr);
       cairo_surface_finish(s);

@@ -295,7 +295,10 @@ bool EstimateObjectPose(const PoseEstimatorOptions& options,
           RotationDistance(second.cam_from_object, first.cam_from_object) >
           options.distinct_deg * kDegToRad;
       if (second.sse_px2 < first.sse_px2) std::swap(first, second);
-      if (distinct) first.alternative_rmse_px = second.rmse_px;
+      if (distinct) {
+        first.alternative_rmse_px = second.rmse_px;
+        first.alternative = second.cam_from_object;
+      }
     }
   } else if (alternative) {
     int n = 0;

@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,9 @@ struct ObjectPose {
   // Error of the best pose more than distinct_deg away (the other branch of
   // an ambiguous square); infinity when none was found.
   double alternative_rmse_px = std::numeric_limits<double>::infinity();
+  // That pose, refined, when it was close enough to be refined as well (an
+  // ambiguous view: ambiguity_ratio).
+  std::optional<Pose> alternative;
 };
 
 // Estimates cam_from_object from `observations` (at least one tag). Extra

@@ -89,6 +89,8 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
     return fail("flip_angle_deg must be in (0, 180)");
+  if (!(ambiguity_margin_px >= 0))
+    return fail("ambiguity_margin_px must be >= 0");
   if (!(flip_keep_rmse_px >= 0)) return fail("flip_keep_rmse_px must be >= 0");
   if (!(flip_cost_ratio > 0 && flip_cost_ratio <= 1))
     return fail("flip_cost_ratio must be in (0, 1]");
@@ -213,13 +215,57 @@ std::optional<Tracker::Estimate> Tracker::EstimateTank(
   return e;
 }
 
+void Tracker::PreferPlausibleTip(const std::vector<TagObservation>& obs,
+                                 const Pose& cam_from_tank,
+                                 ObjectPose* pose) const {
+  if (!pose->alternative ||
+      pose->alternative_rmse_px > pose->rmse_px + options_.ambiguity_margin_px)
+    return;
+  const Pose tank_from_cam = cam_from_tank.Inverse();
+  // Distance of the tip from where a tip can be: over the board, at most
+  // 0.3 m above it, never below the table (metres).
+  const Eigen::Vector3d lo(-0.5 * rig_.tank.size_x_m - 0.05,
+                           -0.5 * rig_.tank.size_y_m - 0.05, -0.005);
+  const Eigen::Vector3d hi(0.5 * rig_.tank.size_x_m + 0.05,
+                           0.5 * rig_.tank.size_y_m + 0.05, 0.3);
+  auto outside = [&](const Pose& cam_from_pen) {
+    const Eigen::Vector3d tip =
+        tank_from_cam * (cam_from_pen * rig_.pen->tip_in_pen);
+    return (tip.cwiseMax(lo).cwiseMin(hi) - tip).norm();
+  };
+  // Negative evidence: faces a branch shows nearly head-on (within 60
+  // degrees) that were not detected count against it.
+  auto missing = [&](const Pose& cam_from_pen) {
+    int n = 0;
+    for (const TagPlacement& face : rig_.pen->faces) {
+      bool seen = false;
+      for (const TagObservation& o : obs) seen = seen || o.id == face.id;
+      if (!seen && FacingCosine(cam_from_pen, face.object_from_tag) > 0.5) ++n;
+    }
+    return n;
+  };
+  auto score = [&](const Pose& p) { return 10.0 * outside(p) + missing(p); };
+  if (score(*pose->alternative) >= score(pose->cam_from_object)) return;
+  ObjectPose other;
+  if (!RefineObjectPose(options_.pose, camera_, obs, *pose->alternative,
+                        &other))
+    return;
+  other.alternative = pose->cam_from_object;
+  other.alternative_rmse_px = pose->rmse_px;
+  *pose = other;
+}
+
 std::optional<Tracker::Estimate> Tracker::EstimatePen(
-    const std::vector<TagObservation>& obs, bool use_prior) const {
+    const std::vector<TagObservation>& obs, bool use_prior,
+    const std::optional<Pose>& cam_from_tank) const {
   const std::optional<Pose> prior = use_prior ? pen_.last_raw : std::nullopt;
+  const bool use_tip_prior =
+      options_.pen_tip_prior && !prior && cam_from_tank.has_value();
   if (options_.pen_mode == PenMode::kJoint || obs.size() == 1) {
     ObjectPose pose;
     if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
       return std::nullopt;
+    if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);
     auto e = CheckFlip(obs, pose, prior);
     if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
     return e;
@@ -247,6 +293,7 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
     }
   }
   if (!best) return std::nullopt;
+  if (use_tip_prior) PreferPlausibleTip(best_obs, *cam_from_tank, &best->pose);
   auto e = CheckFlip(best_obs, best->pose, prior);
   if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
   return e;
@@ -301,7 +348,8 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
     const auto pen_obs =
         MatchObservations(camera_, rig_.pen->faces, detections);
     std::optional<Estimate> pen_estimate;
-    if (!pen_obs.empty()) pen_estimate = EstimatePen(pen_obs, use_prior);
+    if (!pen_obs.empty())
+      pen_estimate = EstimatePen(pen_obs, use_prior, r.tank.cam_from_object);
     UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
                  &r.pen);
     if (r.tank.has_pose() && r.pen.has_pose()) {

@@ -76,6 +76,13 @@ struct TrackerOptions {
   // of its own size (or no tag is shared), the video cut and every object is
   // re-initialised (no flip check, filters reset).
   double cut_jump_fraction = 0.5;
+  // A pen acquired (first frame, after a loss or a cut) from an ambiguous
+  // view takes the branch whose tip lies where a tip can be: over the board
+  // (tank extent + 5 cm), not below the table, at most 0.3 m above it.
+  bool pen_tip_prior = true;
+  // Ambiguous means the other branch's RMS error is within this of the
+  // chosen one's (pixels).
+  double ambiguity_margin_px = 1.0;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;
   double pen_hold_s = 0.0;
@@ -166,8 +173,12 @@ class Tracker {
   bool IsCut(const std::vector<TagDetection>& detections) const;
   std::optional<Estimate> EstimateTank(const std::vector<TagObservation>& obs,
                                        bool use_prior) const;
-  std::optional<Estimate> EstimatePen(const std::vector<TagObservation>& obs,
-                                      bool use_prior) const;
+  std::optional<Estimate> EstimatePen(
+      const std::vector<TagObservation>& obs, bool use_prior,
+      const std::optional<Pose>& cam_from_tank) const;
+  // Applies pen_tip_prior to an estimate made without a prior.
+  void PreferPlausibleTip(const std::vector<TagObservation>& obs,
+                          const Pose& cam_from_tank, ObjectPose* pose) const;
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
                                     const ObjectPose& estimate,
                                     const std::optional<Pose>& prior) const;

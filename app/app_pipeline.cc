@@ -2,29 +2,14 @@
 
 #include <chrono>
 
+#include "app/app_obstacles.h"
+
 namespace ripple::app {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 double MsSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-glm::dmat4 ToGlm(const tracking::Pose& pose) {
-  const Eigen::Matrix4d m = pose.Matrix();
-  glm::dmat4 g(1.0);
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r) g[c][r] = m(r, c);
-  return g;
-}
-
-sim::RigidTransform ToSim(const tracking::Pose& pose) {
-  sim::RigidTransform t;
-  const Eigen::Matrix3d r = pose.R();
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) t.rotation[3 * i + j] = r(i, j);
-  for (int i = 0; i < 3; ++i) t.translation[i] = pose.translation[i];
-  return t;
 }
 
 // Where removed obstacles are parked: far outside any tank.
@@ -69,52 +54,10 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->water_ = std::make_unique<sim::BasicWater<float>>(grid, options.water);
 
   // The rig's obstacles: in the sim (all shapes) and drawn (box, cylinder).
-  for (const tracking::ObstacleSpec& spec : rig.obstacles) {
-    tracking::Pose tank_from_obstacle = spec.parent_from_obstacle;
-    if (spec.attached_tag >= 0)
-      tank_from_obstacle = rig.FindTankTag(spec.attached_tag)->object_from_tag *
-                           spec.parent_from_obstacle;
-    sim::Obstacle o;
-    o.tank_from_obstacle = ToSim(tank_from_obstacle);
-    render::Obstacle r;
-    bool drawn = true;
-    switch (spec.shape) {
-      case tracking::ObstacleSpec::Shape::kBox:
-        o.shape = sim::Obstacle::Shape::kBox;
-        o.box_size_m = {spec.box_size_m.x(), spec.box_size_m.y(),
-                        spec.box_size_m.z()};
-        r.shape = render::Obstacle::Shape::kBox;
-        r.size = glm::vec3(spec.box_size_m.x(), spec.box_size_m.y(),
-                           spec.box_size_m.z());
-        // The renderer's box stands on its origin; the rig's is centred.
-        r.tank_from_obstacle = ToGlm(
-            tank_from_obstacle *
-            tracking::Pose(Eigen::Quaterniond::Identity(),
-                           Eigen::Vector3d(0, 0, -0.5 * spec.box_size_m.z())));
-        break;
-      case tracking::ObstacleSpec::Shape::kCylinder:
-        o.shape = sim::Obstacle::Shape::kCylinder;
-        o.radius_m = spec.radius_m;
-        o.height_m = spec.height_m;
-        r.shape = render::Obstacle::Shape::kCylinder;
-        r.size = glm::vec3(spec.radius_m, spec.radius_m, spec.height_m);
-        r.tank_from_obstacle = ToGlm(tank_from_obstacle);
-        break;
-      case tracking::ObstacleSpec::Shape::kVoxels: {
-        o.shape = sim::Obstacle::Shape::kVoxels;
-        auto volume = std::make_shared<sim::VoxelVolume>();
-        if (!sim::LoadVoxelVolume(spec.voxel_file, spec.voxel_size_m,
-                                  volume.get(), error))
-          return nullptr;
-        o.voxels = volume;
-        drawn = false;  // voxel volumes shape the water but are not drawn
-        break;
-      }
-    }
+  if (!SimObstaclesFromRig(rig, &p->sim_obstacles_, error)) return nullptr;
+  for (const sim::Obstacle& o : p->sim_obstacles_)
     if (p->water_->AddObstacle(o, error) < 0) return nullptr;
-    p->sim_obstacles_.push_back(o);
-    if (drawn) p->render_obstacles_.push_back(r);
-  }
+  p->render_obstacles_ = RenderObstaclesFromRig(rig);
 
   p->context_ = render::Context::TryCreate(
       options.backend, camera.width, camera.height, error, options.window);

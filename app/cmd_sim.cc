@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "app/app_common.h"
+#include "app/app_obstacles.h"
 #include "app/app_timing.h"
 #include "app/app_video.h"
 #include "app/command.h"
@@ -63,64 +64,6 @@ bool ParseStroke(const std::string& text, Stroke* s) {
     if (!std::isfinite(x)) return false;
   *s = {v[0], v[1], v[2], v[3], v[4], v[5]};
   return s->t1 >= s->t0 && s->t0 >= 0;
-}
-
-sim::RigidTransform ToSim(const tracking::Pose& pose) {
-  sim::RigidTransform t;
-  const Eigen::Matrix3d r = pose.R();
-  for (int a = 0; a < 3; ++a) {
-    for (int b = 0; b < 3; ++b) t.rotation[a * 3 + b] = r(a, b);
-    t.translation[a] = pose.translation[a];
-  }
-  return t;
-}
-
-// The rig's obstacles as sim obstacles (tank frame). False with `error`.
-bool ConvertObstacles(const tracking::Rig& rig, std::vector<sim::Obstacle>* out,
-                      std::string* error) {
-  for (const tracking::ObstacleSpec& spec : rig.obstacles) {
-    const std::string name = spec.name.empty() ? "(unnamed)" : spec.name;
-    sim::Obstacle o;
-    tracking::Pose tank_from_obstacle = spec.parent_from_obstacle;
-    if (spec.attached_tag >= 0) {
-      const tracking::TagPlacement* tag = rig.FindTankTag(spec.attached_tag);
-      if (!tag) {
-        *error = "obstacle '" + name + "': tag " +
-                 std::to_string(spec.attached_tag) + " is not a tank tag";
-        return false;
-      }
-      tank_from_obstacle = tag->object_from_tag * spec.parent_from_obstacle;
-    }
-    o.tank_from_obstacle = ToSim(tank_from_obstacle);
-    switch (spec.shape) {
-      case tracking::ObstacleSpec::Shape::kBox:
-        o.shape = sim::Obstacle::Shape::kBox;
-        o.box_size_m = {spec.box_size_m.x(), spec.box_size_m.y(),
-                        spec.box_size_m.z()};
-        break;
-      case tracking::ObstacleSpec::Shape::kCylinder:
-        o.shape = sim::Obstacle::Shape::kCylinder;
-        o.radius_m = spec.radius_m;
-        o.height_m = spec.height_m;
-        break;
-      case tracking::ObstacleSpec::Shape::kVoxels: {
-        o.shape = sim::Obstacle::Shape::kVoxels;
-        auto volume = std::make_shared<sim::VoxelVolume>();
-        if (!sim::LoadVoxelVolume(spec.voxel_file, spec.voxel_size_m,
-                                  volume.get(), error))
-          return false;
-        o.voxels = volume;
-        break;
-      }
-    }
-    std::string why;
-    if (!o.IsValid(&why)) {
-      *error = "obstacle '" + name + "': " + why;
-      return false;
-    }
-    out->push_back(std::move(o));
-  }
-  return true;
 }
 
 bool IsVideoPath(const std::string& path) {
@@ -191,7 +134,7 @@ int RunSim(SimArgs args) {
   if (!grid.IsValid(&error))
     return Fail(kExitBadInput, "--resolution: " + error);
   std::vector<sim::Obstacle> obstacles;
-  if (args.obstacles != "off" && !ConvertObstacles(*rig, &obstacles, &error))
+  if (args.obstacles != "off" && !SimObstaclesFromRig(*rig, &obstacles, &error))
     return Fail(kExitBadInput, args.rig + ": " + error);
 
   const bool video_out = !args.out.empty() && IsVideoPath(args.out);

@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <opencv2/videoio.hpp>
 
 namespace ripple::app {
@@ -17,17 +18,22 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
     const char* fourcc;
     const char* name;
   };
-  std::vector<Choice> choices;
+  static const Choice kMp4[] = {{"avc1", "H.264"}, {"mp4v", "MPEG-4"}};
+  static const Choice kLossless[] = {{"FFV1", "FFV1 (lossless)"}};
+  const Choice* begin = nullptr;
+  const Choice* end = nullptr;
   if (ext == ".mp4" || ext == ".mov") {
-    choices = {{"avc1", "H.264"}, {"mp4v", "MPEG-4"}};
+    begin = std::begin(kMp4);
+    end = std::end(kMp4);
   } else if (ext == ".mkv" || ext == ".avi") {
-    choices = {{"FFV1", "FFV1 (lossless)"}};
+    begin = std::begin(kLossless);
+    end = std::end(kLossless);
   } else {
     if (error)
       *error = "video output '" + path + "': use .mp4, .mov, .mkv or .avi";
     return false;
   }
-  for (const Choice& c : choices) {
+  for (const Choice* c = begin; c != end; ++c) {
     auto w = std::make_unique<cv::VideoWriter>();
     try {
       const int fourcc = cv::VideoWriter::fourcc(c.fourcc[0], c.fourcc[1],
@@ -35,7 +41,7 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
       if (w->open(path, cv::CAP_FFMPEG, fourcc, fps, size, true) &&
           w->isOpened()) {
         writer_ = std::move(w);
-        codec_ = c.name;
+        codec_ = c->name;
         return true;
       }
     } catch (const cv::Exception&) {

@@ -36,8 +36,8 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
   for (const Choice* c = begin; c != end; ++c) {
     auto w = std::make_unique<cv::VideoWriter>();
     try {
-      const int fourcc = cv::VideoWriter::fourcc(c.fourcc[0], c.fourcc[1],
-                                                 c.fourcc[2], c.fourcc[3]);
+      const int fourcc = cv::VideoWriter::fourcc(c->fourcc[0], c->fourcc[1],
+                                                 c->fourcc[2], c->fourcc[3]);
       if (w->open(path, cv::CAP_FFMPEG, fourcc, fps, size, true) &&
           w->isOpened()) {
         writer_ = std::move(w);

@@ -3,10 +3,13 @@
 #include <algorithm>
 #include <cctype>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
+#include <sstream>
 #include <vector>
 
 namespace ripple::app {
@@ -39,8 +42,11 @@ bool IsImageFile(const fs::path& p) {
 class FolderSource : public FrameSource {
  public:
   FolderSource(const std::string& spec, std::vector<std::string> files,
-               double fps)
-      : FrameSource(Kind::kFolder, spec), files_(std::move(files)), fps_(fps) {}
+               double fps, std::vector<double> times)
+      : FrameSource(Kind::kFolder, spec),
+        files_(std::move(files)),
+        fps_(fps),
+        times_(std::move(times)) {}
 
   bool Read(cv::Mat* bgr, double* time_s) override {
     if (!error_.empty() || next_ >= files_.size()) return false;
@@ -58,7 +64,7 @@ class FolderSource : public FrameSource {
                spec_ + "'";
       return false;
     }
-    *time_s = next_ / fps_;
+    *time_s = times_.empty() ? next_ / fps_ : times_[next_];
     ++next_;
     ++frames_read_;
     return true;
@@ -68,8 +74,49 @@ class FolderSource : public FrameSource {
  private:
   std::vector<std::string> files_;
   double fps_;
+  std::vector<double> times_;  // from timestamps.csv, or empty
   size_t next_ = 0;
 };
+
+// A raw recording's DIR/timestamps.csv ("frame,time_s", one row per image
+// in name order; `ripple live --record-raw` writes it). Absent: empty and
+// true. Present but inconsistent: false with `error`.
+bool ReadFolderTimestamps(const std::string& dir, size_t frames,
+                          std::vector<double>* times, std::string* error) {
+  const std::string path = dir + "/timestamps.csv";
+  std::ifstream in(path);
+  if (!in) return true;
+  std::string line;
+  std::getline(in, line);
+  if (line != "frame,time_s") {
+    *error = "'" + path + "': expected the header frame,time_s";
+    return false;
+  }
+  int n = 1;
+  while (std::getline(in, line)) {
+    ++n;
+    if (line.empty()) continue;
+    int frame = -1;
+    double t = 0;
+    char comma = 0;
+    std::istringstream row(line);
+    if (!(row >> frame >> comma >> t) || comma != ',' || !std::isfinite(t) ||
+        frame != static_cast<int>(times->size()) ||
+        (!times->empty() && t < times->back())) {
+      *error = "'" + path + "' line " + std::to_string(n) +
+               ": expected frame " + std::to_string(times->size()) +
+               " and a non-decreasing time";
+      return false;
+    }
+    times->push_back(t);
+  }
+  if (times->size() != frames) {
+    *error = "'" + path + "' has " + std::to_string(times->size()) +
+             " rows for " + std::to_string(frames) + " images";
+    return false;
+  }
+  return true;
+}
 
 class CaptureSource : public FrameSource {
  public:
@@ -148,8 +195,12 @@ std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
       *error = "input folder '" + spec + "' holds no image files";
       return nullptr;
     }
+    std::vector<double> times;
+    if (!ReadFolderTimestamps(spec, files.size(), &times, error))
+      return nullptr;
     return std::make_unique<FolderSource>(spec, std::move(files),
-                                          folder_fps > 0 ? folder_fps : 30.0);
+                                          folder_fps > 0 ? folder_fps : 30.0,
+                                          std::move(times));
   }
   const bool is_device = IsCameraIndex(spec) || spec.rfind("/dev/", 0) == 0;
   if (!is_device) {

@@ -25,7 +25,9 @@ class FrameSource {
   // tif, tiff, pgm, ppm, webp, sorted by name), an existing file (a video),
   // or a camera (a number, or a path under /dev). nullptr with one line in
   // `error` naming the input when it does not exist, is empty or cannot be
-  // decoded. `folder_fps` sets the timestamps of folder frames.
+  // decoded. `folder_fps` sets the timestamps of folder frames, unless the
+  // folder holds a raw recording's timestamps.csv ("frame,time_s"), whose
+  // times are used as they are (an inconsistent one is an error).
   static std::unique_ptr<FrameSource> Open(const std::string& spec,
                                            std::string* error,
                                            double folder_fps = 30.0);

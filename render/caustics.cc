@@ -6,6 +6,15 @@
 #include <cstring>
 #include <thread>
 
+// The kernels below are written once with GCC/Clang vector extensions
+// (8 floats, one AVX register) and compiled twice, for the baseline ISA and
+// for AVX2, picked at run time as in sim/water.cc. Neither build contracts
+// to FMA, so both give bit-identical maps.
+#define RIPPLE_INLINE inline __attribute__((always_inline))
+// All vector helpers are inlined, so the ABI of 32-byte vectors does not
+// matter.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 namespace ripple::render {
 namespace {
 
@@ -15,140 +24,95 @@ constexpr int kMargin = 8;
 // Projected triangles smaller than this (texels^2) are splatted.
 constexpr float kMinArea = 0.1f;
 
-// exp(x) for |x| < 80 to ~2 ulp: 2^n times a degree-6 polynomial of 2^f,
-// f in [-1/2, 1/2]. Unlike std::exp it vectorises (no libm call).
-inline float Exp(float x) {
-  x = std::min(std::max(x, -80.0f), 80.0f);
-  const float t = x * 1.44269504f;
+constexpr int kLanes = 8;
+typedef float F8 __attribute__((vector_size(32)));
+typedef std::int32_t I8 __attribute__((vector_size(32)));
+
+RIPPLE_INLINE F8 Bc(float x) { return F8{} + x; }
+RIPPLE_INLINE I8 Bci(std::int32_t x) { return I8{} + x; }
+RIPPLE_INLINE F8 Min(F8 a, F8 b) { return a < b ? a : b; }
+RIPPLE_INLINE F8 Max(F8 a, F8 b) { return a > b ? a : b; }
+RIPPLE_INLINE F8 Abs(F8 a) { return a < F8{} ? -a : a; }
+RIPPLE_INLINE F8 ToF(I8 i) { return __builtin_convertvector(i, F8); }
+RIPPLE_INLINE I8 ToI(F8 f) { return __builtin_convertvector(f, I8); }
+RIPPLE_INLINE F8 Load(const float* p) {
+  F8 v;
+  std::memcpy(&v, p, sizeof(v));
+  return v;
+}
+RIPPLE_INLINE void Store(float* p, F8 v) { std::memcpy(p, &v, sizeof(v)); }
+RIPPLE_INLINE I8 Lanes() { return I8{0, 1, 2, 3, 4, 5, 6, 7}; }
+// Stores the first n (<= 8) lanes.
+RIPPLE_INLINE void StoreN(float* p, F8 v, int n) {
+  if (n == kLanes) {
+    Store(p, v);
+  } else {
+    alignas(32) float t[kLanes];
+    std::memcpy(t, &v, sizeof(t));
+    std::memcpy(p, t, n * sizeof(float));
+  }
+}
+// Lane-wise sqrt (sqrtps once vectorised; no generic vector builtin).
+RIPPLE_INLINE F8 Sqrt8(F8 x) {
+  alignas(32) float t[kLanes];
+  std::memcpy(t, &x, sizeof(t));
+  for (int l = 0; l < kLanes; ++l) t[l] = std::sqrt(t[l]);
+  std::memcpy(&x, t, sizeof(t));
+  return x;
+}
+
+// exp(x) for |x| < 80 to ~2 ulp, eight lanes: 2^n times a degree-6
+// polynomial of 2^f, f in [-1/2, 1/2] (no libm call).
+RIPPLE_INLINE F8 Exp8(F8 x) {
+  x = Min(Max(x, Bc(-80.0f)), Bc(80.0f));
+  const F8 t = x * 1.44269504f;
   // Round to nearest by the 1.5 * 2^23 trick (|t| < 2^22): roundps needs
-  // SSE4.1, and nearbyint is a libm call on plain x86-64.
-  const float n = (t + 12582912.0f) - 12582912.0f;
-  const float f = (t - n) * 0.693147181f;  // ln 2
-  float p = 1.0f / 720;
+  // SSE4.1.
+  const F8 n = (t + 12582912.0f) - 12582912.0f;
+  const F8 f = (t - n) * 0.693147181f;  // ln 2
+  F8 p = Bc(1.0f / 720);
   p = p * f + 1.0f / 120;
   p = p * f + 1.0f / 24;
   p = p * f + 1.0f / 6;
   p = p * f + 0.5f;
   p = p * f + 1.0f;
   p = p * f + 1.0f;
-  std::int32_t bits = (static_cast<std::int32_t>(n) + 127) << 23;
-  float scale;
+  const I8 bits = (ToI(n) + 127) << 23;
+  F8 scale;
   std::memcpy(&scale, &bits, sizeof(scale));
   return p * scale;
 }
 
-// The accumulation buffer: `stride` = width + 2 columns so that an edge's
-// contribution may spill one column right of its last touched texel.
+// The accumulation buffer: three planes of `rows` x `stride` floats (each
+// with room for two texels of spill right of and below the buffer proper),
+// then a scratch area that masked-off SIMD lanes write into.
+//  - R, prefix-summed along x: edges at most 45 degrees from vertical
+//    (font-rs' accumulation rasteriser) and splats;
+//  - C, prefix-summed along y: the other edges, rasterised the same way
+//    with x and y swapped;
+//  - Q, prefix-summed along y and then x: the corner terms that make C
+//    edges equivalent to R edges (see EdgesRows).
 struct Buffer {
-  int width = 0, height = 0, stride = 0;
-  // Per-edge signed area, prefix-summed per row. Splats add a value at x
-  // and subtract it at x + 1, so the prefix sum leaves it in one texel.
-  std::vector<float> edges;
+  int width = 0, height = 0, stride = 0, rows = 0;
+  size_t plane = 0;
+  std::vector<float> data;
+  float* r() { return data.data(); }
+  float* c() { return data.data() + plane; }
+  float* q() { return data.data() + 2 * plane; }
+  size_t dummy() const { return 3 * plane; }
   void Reset(int w, int h) {
     width = w;
     height = h;
-    stride = w + 2;
-    const size_t n = static_cast<size_t>(stride) * h;
-    edges.resize(n);
-    std::fill(edges.begin(), edges.end(), 0.0f);
+    stride = (w + 2 + kLanes - 1) / kLanes * kLanes;
+    rows = h + 2;
+    plane = static_cast<size_t>(stride) * rows;
+    data.resize(3 * plane + 4 * kLanes);
+    std::fill(data.begin(), data.end(), 0.0f);
   }
 };
 
-// ceil() for x >= 0 without SSE4.1's roundss.
-inline int CeilPositive(float x) {
-  const int i = static_cast<int>(x);
-  return i + (static_cast<float>(i) < x ? 1 : 0);
-}
-
-// Adds `weight` times the signed area to the right of the line p0 -> p1
-// within each row (after the row prefix sum: exact area coverage of the
-// closed polygon the lines bound). After font-rs (Raph Levien, 2016), with
-// two changes for speed: the per-row 1 / (x extent) is the per-edge
-// constant |dy/dx| (one division per edge, not per row), and edges no
-// more than 45 degrees from vertical (a row's piece spans at most two
-// columns) take a branch-free path writing three texels. (Branch-free
-// paths for wider pieces, 5 texels a row, and a fixed 3-row trip count
-// were measured slower: the kernel is bound by arithmetic, not branches.)
-// Precondition: 0 <= x <= width - 1 and 0 <= y <= height on both points.
-inline void AccumulateLine(float x0p, float y0p, float x1p, float y1p,
-                           float weight, Buffer* buf) {
-  if (y0p == y1p || weight == 0.0f) return;
-  float dir = weight;
-  if (y0p > y1p) {
-    std::swap(x0p, x1p);
-    std::swap(y0p, y1p);
-    dir = -weight;
-  }
-  // All coordinates are >= 0 here, so truncation is floor.
-  const float dxdy = (x1p - x0p) / (y1p - y0p);
-  const float adxdy = std::abs(dxdy);
-  float x = x0p;
-  const int y_begin = static_cast<int>(y0p);
-  const int y_end = std::min(buf->height, CeilPositive(y1p));
-  float* row = buf->edges.data() + static_cast<size_t>(y_begin) * buf->stride;
-  if (adxdy <= 1.0f) {
-    // A row's piece spans at most two columns: split it at the column
-    // boundary X and deposit both parts (each in one column) by their mean
-    // x, branch-free. Weight per unit of x extent (unused when dx = 0):
-    const float ds = adxdy > 0.0f ? dir / adxdy : 0.0f;
-    for (int y = y_begin; y < y_end; ++y, row += buf->stride) {
-      const float dy = std::min(float(y + 1), y1p) - std::max(float(y), y0p);
-      const float xnext = x + dxdy * dy;
-      const float d = dy * dir;
-      const float xa = std::min(x, xnext), xb = std::max(x, xnext);
-      const int xa_i = static_cast<int>(xa);
-      const float xa_floor = static_cast<float>(xa_i);
-      const float bx = xa_floor + 1.0f;
-      const float xm = std::min(xb, bx);
-      const float d_left = xb > bx ? ds * (xm - xa) : d;
-      const float d_right = d - d_left;
-      const float f_left = 0.5f * (xa + xm) - xa_floor;
-      const float f_right = 0.5f * (xb - xm);
-      row[xa_i] += d_left - d_left * f_left;
-      row[xa_i + 1] += d_left * f_left + d_right - d_right * f_right;
-      row[xa_i + 2] += d_right * f_right;
-      x = xnext;
-    }
-    return;
-  }
-  const float ds = dir / adxdy;  // d / (xb - xa) in every row
-  for (int y = y_begin; y < y_end; ++y, row += buf->stride) {
-    const float dy = std::min(float(y + 1), y1p) - std::max(float(y), y0p);
-    const float xnext = x + dxdy * dy;
-    const float d = dy * dir;
-    const float xa = std::min(x, xnext), xb = std::max(x, xnext);
-    const int xa_i = static_cast<int>(xa);
-    const float xa_floor = static_cast<float>(xa_i);
-    const int xb_i = CeilPositive(xb);
-    const float xb_ceil = static_cast<float>(xb_i);
-    if (xb_i <= xa_i + 1) {
-      // Within one column: split by the mean x.
-      const float xmf = 0.5f * (x + xnext) - xa_floor;
-      row[xa_i] += d - d * xmf;
-      row[xa_i + 1] += d * xmf;
-    } else {
-      const float xa_f = xa - xa_floor;
-      const float da0 = 0.5f * ds * (1.0f - xa_f) * (1.0f - xa_f);
-      const float xb_f = xb - xb_ceil + 1.0f;
-      const float dam = 0.5f * ds * xb_f * xb_f;
-      row[xa_i] += da0;
-      if (xb_i == xa_i + 2) {
-        row[xa_i + 1] += d - da0 - dam;
-      } else {
-        const float da1 = ds * (1.5f - xa_f);
-        row[xa_i + 1] += da1 - da0;
-        for (int xi = xa_i + 2; xi < xb_i - 1; ++xi) row[xi] += ds;
-        const float da2 = da1 + static_cast<float>(xb_i - xa_i - 3) * ds;
-        row[xb_i - 1] += d - da2 - dam;
-      }
-      row[xb_i] += dam;
-    }
-    x = xnext;
-  }
-}
-
 // Bilinear splat of `flux` at (u, v) in buffer coordinates (texel centres at
-// half-integers); weights sum to one, so the flux is conserved.
+// half-integers) into R; weights sum to one, so the flux is conserved.
 inline void Splat(float u, float v, float flux, Buffer* buf) {
   const float cu = u - 0.5f, cv = v - 0.5f;
   const int iu = static_cast<int>(std::floor(cu));
@@ -156,7 +120,7 @@ inline void Splat(float u, float v, float flux, Buffer* buf) {
   const float fu = cu - iu, fv = cv - iv;
   const int s = buf->stride;
   for (int r = 0; r < 2; ++r) {
-    float* row = buf->edges.data() + static_cast<size_t>(iv + r) * s + iu;
+    float* row = buf->r() + static_cast<size_t>(iv + r) * s + iu;
     const float f = flux * (r ? fv : 1 - fv);
     row[0] += f * (1 - fu);           // texel iu gets f (1 - fu)
     row[1] += f * fu - f * (1 - fu);  // texel iu + 1 gets f fu
@@ -187,22 +151,447 @@ void ParallelRows(int rows, int threads, F&& f) {
   for (auto& t : pool) t.join();
 }
 
+// Everything the kernels share. Corner arrays (u, v, atten, z) are indexed
+// j * cx + i and readable from -(cx + 1) to cx * (cy + 1) + kLanes (zero
+// padding); triangle weights w0, w1 at wi(i, j) = (j + 1) * wx + i + 1 for
+// i in [-1, nx], j in [-1, ny] (a zero border), plus kLanes of padding.
+struct Ctx {
+  int nx, ny, cx, cy, wx;
+  const float* hc;
+  float *u, *v, *atten, *z;
+  float *w0, *w1;
+  // Corner constants.
+  float lx, ly, lz, eta, level, att, len_flat, su, sv, u_off, v_off, x0, y0, dx,
+      dy;
+  int bw, bh;
+  size_t wi(int i, int j) const {
+    return static_cast<size_t>(j + 1) * wx + (i + 1);
+  }
+};
+
+// 1. Corners j0..j1: normal (central differences of the corner heights),
+//    refracted ray, its floor hit in buffer coordinates, the attenuation of
+//    its path relative to flat water, and its height.
+RIPPLE_INLINE void CornersRowsImpl(const Ctx& c, int j_begin, int j_end) {
+  const F8 lx = Bc(c.lx), ly = Bc(c.ly), lz = Bc(c.lz), eta = Bc(c.eta),
+           level = Bc(c.level), su = Bc(c.su), sv = Bc(c.sv),
+           u_off = Bc(c.u_off), v_off = Bc(c.v_off), one = Bc(1.0f);
+  const float att = c.att, len_flat = c.len_flat, x0 = c.x0, dx = c.dx;
+  const int cx = c.cx, cy = c.cy;
+  // One-sided slopes at the ends, central inside.
+  const F8 gx_inner = Bc(1.0f / (2.0f * dx)), gx_end = Bc(1.0f / dx);
+  for (int j = j_begin; j < j_end; ++j) {
+    const int jm = std::max(j - 1, 0), jp = std::min(j + 1, cy - 1);
+    const size_t o = static_cast<size_t>(j) * cx;
+    const float* row = &c.hc[o];
+    const float* up = &c.hc[static_cast<size_t>(jp) * cx];
+    const float* down = &c.hc[static_cast<size_t>(jm) * cx];
+    const F8 gy_scale = Bc(1.0f / ((jp - jm) * c.dy));
+    const F8 y = Bc(c.y0 + j * c.dy);
+    for (int i = 0; i < cx; i += kLanes) {
+      const I8 ii = Lanes() + i;
+      const F8 h = Load(row + i);
+      const I8 first = ii == I8{}, last = ii == Bci(cx - 1);
+      const F8 left = first ? h : Load(row + i - 1);
+      const F8 right = last ? h : Load(row + i + 1);
+      const F8 gx = (right - left) * ((first | last) ? gx_end : gx_inner);
+      const F8 gy = (Load(up + i) - Load(down + i)) * gy_scale;
+      // n = normalize(-gx, -gy, 1); t = Refract(-l, n, eta), inlined.
+      const F8 inv_n = one / Sqrt8(gx * gx + gy * gy + one);
+      const F8 nx_ = -gx * inv_n, ny_ = -gy * inv_n, nz_ = inv_n;
+      const F8 cosi = nx_ * lx + ny_ * ly + nz_ * lz;
+      const F8 k = one - eta * eta * (one - cosi * cosi);
+      const F8 m = eta * cosi - Sqrt8(Max(k, F8{}));
+      const F8 tx = -eta * lx + m * nx_;
+      const F8 ty = -eta * ly + m * ny_;
+      const F8 tz = -eta * lz + m * nz_;
+      const F8 z = Max(level + h, F8{});
+      const F8 len = z / Max(-tz, Bc(1e-4f));
+      const F8 x = x0 + ToF(ii) * dx;
+      const int n = std::min(kLanes, cx - i);
+      StoreN(&c.u[o + i], (x + tx * len) * su + u_off, n);
+      StoreN(&c.v[o + i], (y + ty * len) * sv + v_off, n);
+      // 1 when att = 0.
+      StoreN(&c.atten[o + i], Exp8(-att * (len - len_flat)), n);
+      StoreN(&c.z[o + i], z, n);
+    }
+  }
+}
+
+// 2. Triangles of quad rows j0..j1: flux in, and the weight of their edges
+//    (flux over projected area, signed by the winding), or a splat if tiny.
+//    Quad (i, j) has corners a = (i, j), b = (i+1, j), c = (i+1, j+1),
+//    d = (i, j+1) and triangles T0 = abc, T1 = acd.
+RIPPLE_INLINE void TrianglesRowsImpl(const Ctx& c, float* tmp, Buffer* buf,
+                                     CausticsSummary* sum, bool summary,
+                                     int j_begin, int j_end) {
+  const float hdx = 0.5f * c.dx, hdy = 0.5f * c.dy,
+              hdxdy = 0.5f * c.dx * c.dy * c.lz, lx = c.lx, ly = c.ly;
+  const F8 bw_max = Bc(c.bw - 1.0f), bh_max = Bc(c.bh - 1.0f);
+  const int nx = c.nx, cx = c.cx;
+  float* __restrict pf0 = tmp;  // floor flux of T0, T1
+  float* __restrict pf1 = pf0 + nx;
+  float* __restrict ar0 = pf1 + nx;  // projected areas (texels^2)
+  float* __restrict ar1 = ar0 + nx;
+  // 1 when the quad needs the rare-case pass.
+  float* __restrict rare = ar1 + nx;
+  for (int j = j_begin; j < j_end; ++j) {
+    const size_t o = static_cast<size_t>(j) * cx;
+    const float* __restrict ua = &c.u[o];
+    const float* __restrict ud = &c.u[o + cx];
+    const float* __restrict va = &c.v[o];
+    const float* __restrict vd = &c.v[o + cx];
+    const float* __restrict za = &c.z[o];
+    const float* __restrict zd = &c.z[o + cx];
+    const float* __restrict aa = &c.atten[o];
+    const float* __restrict ad = &c.atten[o + cx];
+    float* __restrict w0 = &c.w0[c.wi(0, j)];
+    float* __restrict w1 = &c.w1[c.wi(0, j)];
+    const F8 zero = {}, one = Bc(1.0f), min_area = Bc(kMinArea);
+    for (int i = 0; i < nx; i += kLanes) {
+      const F8 au = Load(ua + i), bu = Load(ua + i + 1);
+      const F8 cu = Load(ud + i + 1), du = Load(ud + i);
+      const F8 av = Load(va + i), bv = Load(va + i + 1);
+      const F8 cv = Load(vd + i + 1), dv = Load(vd + i);
+      const F8 z_a = Load(za + i), z_b = Load(za + i + 1);
+      const F8 z_c = Load(zd + i + 1), z_d = Load(zd + i);
+      // Intercepted flux (unit irradiance facing the light): the area
+      // vector dotted with the light, e.g. T0: (b - a) x (c - a) =
+      // (-(zb - za) dy, (zb - zc) dx, dx dy).
+      const F8 phi0 =
+          Max(-(z_b - z_a) * hdy * lx + (z_b - z_c) * hdx * ly + hdxdy, zero);
+      const F8 phi1 =
+          Max((z_d - z_c) * hdy * lx - (z_d - z_a) * hdx * ly + hdxdy, zero);
+      const F8 a_a = Load(aa + i), a_b = Load(aa + i + 1);
+      const F8 a_c = Load(ad + i + 1), a_d = Load(ad + i);
+      const F8 f0 = phi0 * (a_a + a_b + a_c) * (1.0f / 3.0f);
+      const F8 f1 = phi1 * (a_a + a_c + a_d) * (1.0f / 3.0f);
+      const F8 a0 = 0.5f * ((bu - au) * (cv - av) - (bv - av) * (cu - au));
+      const F8 a1 = 0.5f * ((cu - au) * (dv - av) - (cv - av) * (du - au));
+      const I8 big0 = Abs(a0) >= min_area, big1 = Abs(a1) >= min_area;
+      const F8 min_u = Min(Min(au, bu), Min(cu, du));
+      const F8 max_u = Max(Max(au, bu), Max(cu, du));
+      const F8 min_v = Min(Min(av, bv), Min(cv, dv));
+      const F8 max_v = Max(Max(av, bv), Max(cv, dv));
+      const I8 in = (min_u >= one) & (max_u <= bw_max) & (min_v >= one) &
+                    (max_v <= bh_max);
+      const int n = std::min(kLanes, nx - i);
+      StoreN(pf0 + i, f0, n);
+      StoreN(pf1 + i, f1, n);
+      StoreN(ar0 + i, a0, n);
+      StoreN(ar1 + i, a1, n);
+      StoreN(w0 + i, big0 ? -f0 / (big0 ? a0 : one) : zero, n);
+      StoreN(w1 + i, big1 ? -f1 / (big1 ? a1 : one) : zero, n);
+      StoreN(rare + i, (in & big0 & big1) ? zero : one, n);
+    }
+    // The rare cases: a quad reaching outside the buffer (handled per
+    // triangle) or a triangle focused below kMinArea.
+    for (int i = 0; i < nx; ++i) {
+      if (rare[i] == 0.0f) continue;
+      const size_t c00 = o + i, c10 = c00 + 1, c01 = c00 + cx, c11 = c01 + 1;
+      const size_t tris[2][3] = {{c00, c10, c11}, {c00, c11, c01}};
+      for (int t = 0; t < 2; ++t) {
+        float& w = t == 0 ? w0[i] : w1[i];
+        const float pf = t == 0 ? pf0[i] : pf1[i];
+        const float area = t == 0 ? ar0[i] : ar1[i];
+        const size_t a = tris[t][0], b = tris[t][1], d = tris[t][2];
+        const float* u = c.u;
+        const float* v = c.v;
+        const float min_u = std::min({u[a], u[b], u[d]});
+        const float max_u = std::max({u[a], u[b], u[d]});
+        const float min_v = std::min({v[a], v[b], v[d]});
+        const float max_v = std::max({v[a], v[b], v[d]});
+        if (!(min_u >= 1.0f && max_u <= c.bw - 1.0f && min_v >= 1.0f &&
+              max_v <= c.bh - 1.0f)) {
+          sum->flux_outside += pf;  // beyond the margin too
+          w = 0.0f;
+        } else if (std::abs(area) < kMinArea) {
+          Splat((u[a] + u[b] + u[d]) / 3.0f, (v[a] + v[b] + v[d]) / 3.0f, pf,
+                buf);
+          w = 0.0f;
+        }
+        // else: a counter-clockwise triangle accumulates -1 inside (w).
+      }
+    }
+    if (summary) {
+      // The flux entering the surface, before attenuation.
+      double phi = 0;
+      for (int i = 0; i < nx; ++i) {
+        const float z_a = za[i], z_b = za[i + 1], z_c = zd[i + 1], z_d = zd[i];
+        phi += std::max(
+            -(z_b - z_a) * hdy * lx + (z_b - z_c) * hdx * ly + hdxdy, 0.0f);
+        phi += std::max((z_d - z_c) * hdy * lx - (z_d - z_a) * hdx * ly + hdxdy,
+                        0.0f);
+      }
+      sum->flux_in += phi;
+      sum->triangles += 2 * nx;
+    }
+  }
+}
+
+// Per lane, the weight an edge p0 -> p1 of weight w puts in C: w when it is
+// nearer horizontal than vertical (|du| > |dv|), else 0.
+RIPPLE_INLINE F8 CWeight(F8 u0, F8 v0, F8 u1, F8 v1, F8 w) {
+  return Abs(u1 - u0) > Abs(v1 - v0) ? w : F8{};
+}
+
+// Eight mesh edges p0 -> p1 (one per lane, masked by `valid`), each adding w
+// times its signed area to the right within each texel row (R) or, when
+// nearer horizontal, -w times its signed area above within each texel
+// column (C). Either way a row (column) piece of an edge spans at most two
+// columns (rows): it is split at the column boundary and both parts are
+// deposited by their mean position, branch-free, in three texels.
+// Requires 0 <= u <= width - 1 and 0 <= v <= height - 1 on active lanes.
+RIPPLE_INLINE void Edges8(F8 u0, F8 v0, F8 u1, F8 v1, F8 w, I8 valid,
+                          Buffer* buf) {
+  const F8 zero = {}, one = Bc(1.0f);
+  const I8 in_c = Abs(u1 - u0) > Abs(v1 - v0);
+  // Rasteriser frame: rows along y (major), pieces along x (minor).
+  F8 x0 = in_c ? v0 : u0, y0 = in_c ? u0 : v0;
+  F8 x1 = in_c ? v1 : u1, y1 = in_c ? u1 : v1;
+  const F8 wk = in_c ? -w : w;
+  const I8 flip = y0 > y1;
+  const F8 sx = x0, sy = y0;
+  x0 = flip ? x1 : x0;
+  y0 = flip ? y1 : y0;
+  x1 = flip ? sx : x1;
+  y1 = flip ? sy : y1;
+  const F8 dir = flip ? -wk : wk;
+  const F8 ext = y1 - y0;
+  const I8 active = valid & (w != zero) & (ext > zero);
+  const F8 dxdy = (x1 - x0) / (active ? ext : one);
+  const F8 adxdy = Abs(dxdy);
+  // Weight per unit of x extent (unused when dx = 0).
+  const I8 slanted = adxdy > zero;
+  const F8 ds = slanted ? dir / (slanted ? adxdy : one) : zero;
+  // All coordinates are >= 0 on active lanes, so truncation is floor.
+  const I8 yb = ToI(y0);
+  const I8 t1 = ToI(y1);
+  const I8 ye = t1 - (ToF(t1) < y1);  // ceil(y1)
+  const I8 n = active ? ye - yb : I8{};
+  const int stride = buf->stride;
+  const I8 major = in_c ? Bci(1) : Bci(stride);
+  const I8 minor = in_c ? Bci(stride) : Bci(1);
+  const I8 base =
+      (in_c ? Bci(static_cast<std::int32_t>(buf->plane)) : I8{}) + yb * major;
+  const I8 dummy = Bci(static_cast<std::int32_t>(buf->dummy())) + Lanes() * 4;
+  alignas(32) std::int32_t nn[kLanes];
+  std::memcpy(nn, &n, sizeof(nn));
+  int kmax = 0;
+  for (int l = 0; l < kLanes; ++l) kmax = std::max(kmax, nn[l]);
+  const F8 ybf = ToF(yb);
+  float* data = buf->data.data();
+  for (int k = 0; k < kmax; ++k) {
+    const F8 yk = ybf + static_cast<float>(k);
+    const F8 ylo = Max(yk, y0), yhi = Min(yk + one, y1);
+    const F8 dy = yhi - ylo;
+    const F8 x = x0 + dxdy * (ylo - y0);
+    const F8 xnext = x + dxdy * dy;
+    const F8 d = dy * dir;
+    const F8 xa = Min(x, xnext), xb = Max(x, xnext);
+    const I8 xa_i = ToI(xa);
+    const F8 xa_floor = ToF(xa_i);
+    const F8 bx = xa_floor + one;
+    const F8 xm = Min(xb, bx);
+    const F8 d_left = xb > bx ? ds * (xm - xa) : d;
+    const F8 d_right = d - d_left;
+    const F8 f_left = 0.5f * (xa + xm) - xa_floor;
+    const F8 f_right = 0.5f * (xb - xm);
+    const I8 on = n > Bci(k);
+    const I8 idx = on ? base + k * major + xa_i * minor : dummy;
+    const I8 step = on ? minor : Bci(1);
+    alignas(32) std::int32_t ii[kLanes], ss[kLanes];
+    alignas(32) float a0[kLanes], a1[kLanes], a2[kLanes];
+    const F8 b0 = d_left - d_left * f_left;
+    const F8 b1 = d_left * f_left + d_right - d_right * f_right;
+    const F8 b2 = d_right * f_right;
+    std::memcpy(ii, &idx, sizeof(ii));
+    std::memcpy(ss, &step, sizeof(ss));
+    std::memcpy(a0, &b0, sizeof(a0));
+    std::memcpy(a1, &b1, sizeof(a1));
+    std::memcpy(a2, &b2, sizeof(a2));
+    for (int l = 0; l < kLanes; ++l) {
+      float* p = data + ii[l];
+      const int s = ss[l];
+      p[0] += a0[l];
+      p[s] += a1[l];
+      p[2 * s] += a2[l];
+    }
+  }
+}
+
+// 3. Each mesh edge once, weighted by the difference of the two triangles
+//    it separates (their opposite traversals cancel in the rest), and each
+//    corner's Q term. Corner rows j0..j1 own the edges leaving their
+//    corners: H (i, j) -> (i + 1, j), V (i, j) -> (i, j + 1) and the
+//    diagonal D (i, j) -> (i + 1, j + 1).
+//
+//    Why C and Q: with R(e) the signed area right of edge e = p0 -> p1 (the
+//    font-rs term) and C(e) the signed area above it, R(e) + C(e) =
+//    Q(p0) - Q(p1), Q(p) being the quadrant x > p.x, y > p.y. So an edge
+//    nearer horizontal adds -w C(e) to C and +w, -w to its ends' Q, whose
+//    texel coverage is separable: a 2 x 2 bilinear deposit in a plane
+//    prefix-summed along both axes. Every edge then spans at most two
+//    texels per row (column) piece, the case that vectorises.
+RIPPLE_INLINE void EdgesRowsImpl(const Ctx& c, Buffer* buf, int j_begin,
+                                 int j_end) {
+  const int cx = c.cx;
+  const float* u = c.u;
+  const float* v = c.v;
+  const float* w0 = c.w0;
+  const float* w1 = c.w1;
+  const int stride = buf->stride;
+  const I8 dummy = Bci(static_cast<std::int32_t>(buf->dummy())) + Lanes() * 4;
+  const I8 q_base = Bci(static_cast<std::int32_t>(2 * buf->plane));
+  float* data = buf->data.data();
+  for (int j = j_begin; j < j_end; ++j) {
+    const std::ptrdiff_t o = static_cast<std::ptrdiff_t>(j) * cx;
+    for (int i = 0; i < cx; i += kLanes) {
+      const I8 valid = (Lanes() + i) < Bci(cx);
+      const std::ptrdiff_t a = o + i;
+      const F8 ua = Load(u + a), va = Load(v + a);
+      const F8 ub = Load(u + a + 1), vb = Load(v + a + 1);            // H end
+      const F8 ud = Load(u + a + cx), vd = Load(v + a + cx);          // V end
+      const F8 uc = Load(u + a + cx + 1), vc = Load(v + a + cx + 1);  // D
+      const F8 w0_here = Load(w0 + c.wi(i, j));
+      const F8 w1_here = Load(w1 + c.wi(i, j));
+      const F8 w0_left = Load(w0 + c.wi(i - 1, j));
+      const F8 w1_left_below = Load(w1 + c.wi(i - 1, j - 1));
+      const F8 w0_left_below = Load(w0 + c.wi(i - 1, j - 1));
+      const F8 w1_below = Load(w1 + c.wi(i, j - 1));
+      // H: T0 of (i, j) above, T1 of (i, j - 1) below; V: T0 of (i - 1, j)
+      // left, T1 of (i, j) right; D: T1 of (i, j) left, T0 right.
+      const F8 wh = w0_here - w1_below;
+      const F8 wv = w0_left - w1_here;
+      const F8 wd = w1_here - w0_here;
+      Edges8(ua, va, ub, vb, wh, valid, buf);
+      Edges8(ua, va, ud, vd, wv, valid, buf);
+      Edges8(ua, va, uc, vc, wd, valid, buf);
+      // Q of corner (i, j): + the C weights of the edges leaving it, - those
+      // of the edges arriving (H from the left, V from below, D from
+      // below-left).
+      const F8 ul = Load(u + a - 1), vl = Load(v + a - 1);
+      const F8 ubl = Load(u + a - cx), vbl = Load(v + a - cx);
+      const F8 ull = Load(u + a - cx - 1), vll = Load(v + a - cx - 1);
+      const F8 wh_in = w0_left - w1_left_below;
+      const F8 wv_in = w0_left_below - w1_below;
+      const F8 wd_in = w1_left_below - w0_left_below;
+      const F8 q =
+          CWeight(ua, va, ub, vb, wh) + CWeight(ua, va, ud, vd, wv) +
+          CWeight(ua, va, uc, vc, wd) - CWeight(ul, vl, ua, va, wh_in) -
+          CWeight(ubl, vbl, ua, va, wv_in) - CWeight(ull, vll, ua, va, wd_in);
+      const I8 on = valid & (q != F8{});
+      const I8 iu = ToI(ua), iv = ToI(va);
+      const F8 fu = ua - ToF(iu), fv = va - ToF(iv);
+      const I8 idx = on ? q_base + iv * stride + iu : dummy;
+      const I8 step = on ? Bci(stride) : Bci(1);
+      const F8 gu = 1.0f - fu, gv = 1.0f - fv;
+      const F8 b00 = q * gu * gv, b10 = q * fu * gv;
+      const F8 b01 = q * gu * fv, b11 = q * fu * fv;
+      alignas(32) std::int32_t ii[kLanes], ss[kLanes];
+      alignas(32) float q00[kLanes], q10[kLanes], q01[kLanes], q11[kLanes];
+      std::memcpy(ii, &idx, sizeof(ii));
+      std::memcpy(ss, &step, sizeof(ss));
+      std::memcpy(q00, &b00, sizeof(q00));
+      std::memcpy(q10, &b10, sizeof(q10));
+      std::memcpy(q01, &b01, sizeof(q01));
+      std::memcpy(q11, &b11, sizeof(q11));
+      for (int l = 0; l < kLanes; ++l) {
+        float* p = data + ii[l];
+        const int s = ss[l];
+        p[0] += q00[l];
+        p[1] += q10[l];
+        p[s] += q01[l];
+        p[s + 1] += q11[l];
+      }
+    }
+  }
+}
+
+// Inclusive prefix sum of the eight lanes.
+RIPPLE_INLINE F8 Scan8(F8 x) {
+  const F8 z = {};
+  x += __builtin_shuffle(z, x, I8{0, 8, 9, 10, 11, 12, 13, 14});
+  x += __builtin_shuffle(z, x, I8{0, 1, 8, 9, 10, 11, 12, 13});
+  x += __builtin_shuffle(z, x, I8{0, 1, 2, 3, 8, 9, 10, 11});
+  return x;
+}
+
+// 4. Buffer rows 0..y_last: texel coverage = Sx(R + Sy(Q)) + Sy(C), written
+//    into `out` (rows of `stride` floats) for rows y_first..y_last; the
+//    column sums of C and Q run in col_c, col_q (stride floats, zeroed).
+RIPPLE_INLINE void ResolveImpl(Buffer* buf, int y_first, int y_last,
+                               float* col_c, float* col_q, float* out) {
+  const int stride = buf->stride;
+  for (int y = 0; y < y_last; ++y) {
+    const size_t o = static_cast<size_t>(y) * stride;
+    const float* r = buf->r() + o;
+    const float* cc = buf->c() + o;
+    const float* qq = buf->q() + o;
+    if (y < y_first) {
+      for (int x = 0; x < stride; x += kLanes) {
+        Store(col_c + x, Load(col_c + x) + Load(cc + x));
+        Store(col_q + x, Load(col_q + x) + Load(qq + x));
+      }
+      continue;
+    }
+    float* row = out + static_cast<size_t>(y - y_first) * stride;
+    F8 carry = {};
+    for (int x = 0; x < stride; x += kLanes) {
+      const F8 sc = Load(col_c + x) + Load(cc + x);
+      const F8 sq = Load(col_q + x) + Load(qq + x);
+      Store(col_c + x, sc);
+      Store(col_q + x, sq);
+      const F8 s = Scan8(Load(r + x) + sq) + carry;
+      carry = __builtin_shuffle(s, Bci(kLanes - 1));
+      Store(row + x, s + sc);
+    }
+  }
+}
+
+#define RIPPLE_CAUSTICS_KERNEL(Name, Params, Args)                            \
+  void Name##Base Params { Name##Impl Args; }                                 \
+  __attribute__((target("avx2"))) void Name##Avx2 Params { Name##Impl Args; } \
+  void Name(bool simd, RIPPLE_UNPAREN Params) {                               \
+    if (simd && HasAvx2()) return Name##Avx2 Args;                            \
+    Name##Base Args;                                                          \
+  }
+#define RIPPLE_UNPAREN(...) __VA_ARGS__
+
+bool HasAvx2() {
+#if defined(__x86_64__) && defined(__GNUC__)
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+#else
+  return false;
+#endif
+}
+
+RIPPLE_CAUSTICS_KERNEL(CornersRows, (const Ctx& c, int j0, int j1), (c, j0, j1))
+RIPPLE_CAUSTICS_KERNEL(TrianglesRows,
+                       (const Ctx& c, float* tmp, Buffer* buf,
+                        CausticsSummary* sum, bool summary, int j0, int j1),
+                       (c, tmp, buf, sum, summary, j0, j1))
+RIPPLE_CAUSTICS_KERNEL(EdgesRows, (const Ctx& c, Buffer* buf, int j0, int j1),
+                       (c, buf, j0, j1))
+RIPPLE_CAUSTICS_KERNEL(Resolve,
+                       (Buffer * buf, int y_first, int y_last, float* col_c,
+                        float* col_q, float* out),
+                       (buf, y_first, y_last, col_c, col_q, out))
+
 }  // namespace
 
-// Per surface corner (structure of arrays, so the corner and triangle loops
-// vectorise): the floor hit (u, v) in accumulation-buffer coordinates
-// (texel edges at integers, the map's texel a spanning [a + kMargin,
-// a + kMargin + 1)), the relative attenuation of its path, and its height
-// above the floor.
 struct CausticsWorkspace::Buffers {
   std::vector<float> hc;
+  // Corner arrays with zero padding before and after (see Ctx).
   std::vector<float> u, v, atten, z;
-  // Per quad, with a zero border so that edge weights need no bounds
-  // checks: the edge weights of its two triangles.
+  // Per quad, with a zero border: the edge weights of its two triangles.
   std::vector<float> w0, w1;
   // Per quad of one row: the two triangles' floor flux and projected area.
   std::vector<std::vector<float>> rows;
   std::vector<Buffer> bufs;
+  // Resolve: column sums and the resolved rows.
+  std::vector<float> col_c, col_q, resolved;
 };
 CausticsWorkspace::CausticsWorkspace() : buffers(new Buffers) {}
 CausticsWorkspace::~CausticsWorkspace() = default;
@@ -238,6 +627,7 @@ bool ComputeCaustics(const CausticsOptions& options,
     std::fill(map->begin(), map->end(), 0.0f);
     return false;
   }
+  const bool simd = options.simd;
 
   // The field (a single flat cell over the tank when there is none).
   const float zero = 0.0f;
@@ -253,29 +643,53 @@ bool ComputeCaustics(const CausticsOptions& options,
   }
   const int cx = nx + 1, cy = ny + 1;
   const int threads = options.threads;
+  const int bw = mx + 2 * kMargin, bh = my + 2 * kMargin;
 
-  // 1. Corners: height (mean of the adjacent cells), normal, refracted ray
-  //    and its floor hit.
+  Ctx c;
+  c.nx = nx;
+  c.ny = ny;
+  c.cx = cx;
+  c.cy = cy;
+  c.wx = nx + 2;
+  c.bw = bw;
+  c.bh = bh;
   const float eta = static_cast<float>(1.0 / options.ior);
   const glm::vec3 t_flat = Refract(-l, glm::vec3(0, 0, 1), eta);
-  const float level = tank.water_level;
-  const float len_flat = level / -t_flat.z;
-  const float att = static_cast<float>(options.attenuation_per_m);
-  const float x0 = -0.5f * nx * dx, y0 = -0.5f * ny * dy;
-  const float su = mx / tank.size_x, sv = my / tank.size_y;
+  c.lx = l.x;
+  c.ly = l.y;
+  c.lz = l.z;
+  c.eta = eta;
+  c.level = tank.water_level;
+  c.len_flat = c.level / -t_flat.z;
+  c.att = static_cast<float>(options.attenuation_per_m);
+  c.x0 = -0.5f * nx * dx;
+  c.y0 = -0.5f * ny * dy;
+  c.dx = dx;
+  c.dy = dy;
+  c.su = mx / tank.size_x;
+  c.sv = my / tank.size_y;
+  c.u_off = 0.5f * tank.size_x * c.su + kMargin;
+  c.v_off = 0.5f * tank.size_y * c.sv + kMargin;
+
+  // 1. Corner heights (mean of the adjacent cells), then the corners.
   const size_t n_corners = static_cast<size_t>(cx) * cy;
+  const size_t pad = cx + kLanes;
   std::vector<float>& hc = ws.hc;
-  hc.resize(n_corners);
-  ws.u.resize(n_corners);
-  ws.v.resize(n_corners);
-  ws.atten.resize(n_corners);
-  ws.z.resize(n_corners);
+  hc.assign(kLanes + n_corners + 2 * kLanes, 0.0f);
+  for (std::vector<float>* a : {&ws.u, &ws.v, &ws.atten, &ws.z}) {
+    a->assign(pad + n_corners + pad + cx, 0.0f);
+  }
+  c.hc = hc.data() + kLanes;
+  c.u = ws.u.data() + pad;
+  c.v = ws.v.data() + pad;
+  c.atten = ws.atten.data() + pad;
+  c.z = ws.z.data() + pad;
   ParallelRows(cy, threads, [&](int, int j_begin, int j_end) {
     for (int j = j_begin; j < j_end; ++j) {
       const int j0 = std::max(j - 1, 0), j1 = std::min(j, ny - 1);
       const float* r0 = h + static_cast<size_t>(j0) * nx;
       const float* r1 = h + static_cast<size_t>(j1) * nx;
-      float* out = &hc[static_cast<size_t>(j) * cx];
+      float* out = &hc[kLanes + static_cast<size_t>(j) * cx];
       out[0] = 0.5f * (r0[0] + r1[0]);
       for (int i = 1; i < nx; ++i) {
         out[i] = 0.25f * (r0[i - 1] + r0[i] + r1[i - 1] + r1[i]);
@@ -283,261 +697,67 @@ bool ComputeCaustics(const CausticsOptions& options,
       out[nx] = 0.5f * (r0[nx - 1] + r1[nx - 1]);
     }
   });
-  const float lz = l.z;
-  const float u_off = 0.5f * tank.size_x * su + kMargin;
-  const float v_off = 0.5f * tank.size_y * sv + kMargin;
   ParallelRows(cy, threads, [&](int, int j_begin, int j_end) {
-    // Local copies: the loop below stores floats, which could alias
-    // anything captured by reference and so would block vectorisation.
-    const float lx_ = l.x, ly_ = l.y, lz_ = l.z, eta_ = eta, level_ = level,
-                att_ = att, len_flat_ = len_flat, su_ = su, sv_ = sv,
-                u_off_ = u_off, v_off_ = v_off, x0_ = x0, dx_ = dx;
-    const int cx_ = cx;
-    for (int j = j_begin; j < j_end; ++j) {
-      const int jm = std::max(j - 1, 0), jp = std::min(j + 1, cy - 1);
-      const size_t o = static_cast<size_t>(j) * cx_;
-      const float* __restrict row = &hc[o];
-      const float* __restrict up = &hc[static_cast<size_t>(jp) * cx_];
-      const float* __restrict down = &hc[static_cast<size_t>(jm) * cx_];
-      float* __restrict out_u = &ws.u[o];
-      float* __restrict out_v = &ws.v[o];
-      float* __restrict out_a = &ws.atten[o];
-      float* __restrict out_z = &ws.z[o];
-      const float gy_scale = 1.0f / ((jp - jm) * dy);
-      const float y = y0 + j * dy;
-      const auto corner = [&](int i, float gx) __attribute__((always_inline)) {
-        const float gy = (up[i] - down[i]) * gy_scale;
-        // n = normalize(-gx, -gy, 1); t = Refract(-l, n, eta), inlined.
-        const float inv_n = 1.0f / std::sqrt(gx * gx + gy * gy + 1.0f);
-        const float nx_ = -gx * inv_n, ny_ = -gy * inv_n, nz_ = inv_n;
-        const float cosi = nx_ * lx_ + ny_ * ly_ + nz_ * lz_;
-        const float k = 1.0f - eta_ * eta_ * (1.0f - cosi * cosi);
-        const float m = eta_ * cosi - std::sqrt(std::max(k, 0.0f));
-        const float tx = -eta_ * lx_ + m * nx_;
-        const float ty = -eta_ * ly_ + m * ny_;
-        const float tz = -eta_ * lz_ + m * nz_;
-        const float z = std::max(level_ + row[i], 0.0f);
-        const float len = z / std::max(-tz, 1e-4f);
-        const float x = x0_ + i * dx_;
-        out_u[i] = (x + tx * len) * su_ + u_off_;
-        out_v[i] = (y + ty * len) * sv_ + v_off_;
-        out_a[i] = Exp(-att_ * (len - len_flat_));  // 1 when att = 0
-        out_z[i] = z;
-      };
-      // One-sided slopes at the ends, central inside (vectorised).
-      const float gx_inner = 1.0f / (2.0f * dx_);
-      corner(0, (row[1] - row[0]) / dx_);
-      for (int i = 1; i < cx_ - 1; ++i) {
-        corner(i, (row[i + 1] - row[i - 1]) * gx_inner);
-      }
-      corner(cx_ - 1, (row[cx_ - 1] - row[cx_ - 2]) / dx_);
-    }
+    CornersRows(simd, c, j_begin, j_end);
   });
 
-  // 2. Per triangle: flux in, and the weight of its edges (flux over its
-  //    projected area, signed by its winding), or a splat if it is tiny.
-  //    Quad (i, j) has corners a = (i, j), b = (i+1, j), c = (i+1, j+1),
-  //    d = (i, j+1) and triangles T0 = abc, T1 = acd.
-  const int bw = mx + 2 * kMargin, bh = my + 2 * kMargin;
-  const float texel_area = 1.0f / (su * sv);  // m^2
-  const int wx = nx + 2;
-  ws.w0.assign(static_cast<size_t>(wx) * (ny + 2), 0.0f);
+  // 2. Triangles: weights, splats and the light outside the buffer.
+  const float texel_area = 1.0f / (c.su * c.sv);  // m^2
+  ws.w0.assign(static_cast<size_t>(c.wx) * (ny + 2) + 2 * kLanes, 0.0f);
   ws.w1.assign(ws.w0.size(), 0.0f);
-  auto wi = [wx](int i, int j) {
-    return static_cast<size_t>(j + 1) * wx + (i + 1);
-  };
+  c.w0 = ws.w0.data();
+  c.w1 = ws.w1.data();
   std::vector<Buffer>& bufs = ws.bufs;
   bufs.resize(std::max(1, std::min(threads, ny)));
   ws.rows.resize(bufs.size());
   std::vector<CausticsSummary> sums(bufs.size());
-  const float hdx = 0.5f * dx, hdy = 0.5f * dy, hdxdy = 0.5f * dx * dy * lz;
   ParallelRows(ny, threads, [&](int k, int j_begin, int j_end) {
-    // Local copies (see the corner loop).
-    const float lx = l.x, ly = l.y, hdx_ = hdx, hdy_ = hdy, hdxdy_ = hdxdy;
-    const float bw_max = bw - 1.0f, bh_max = bh - 1.0f;
-    const int nx_ = nx;
-    Buffer& buf = bufs[k];
-    buf.Reset(bw, bh);
-    CausticsSummary& sum = sums[k];
-    std::vector<float>& tmp = ws.rows[k];
-    tmp.resize(static_cast<size_t>(nx) * 5);
-    float* __restrict pf0 = tmp.data();  // floor flux of T0, T1
-    float* __restrict pf1 = pf0 + nx;
-    float* __restrict ar0 = pf1 + nx;  // projected areas (texels^2)
-    float* __restrict ar1 = ar0 + nx;
-    // 1 when both triangles lie inside the buffer.
-    float* __restrict in = ar1 + nx;
-    for (int j = j_begin; j < j_end; ++j) {
-      const size_t o = static_cast<size_t>(j) * cx;
-      const float* __restrict ua = &ws.u[o], * __restrict ud = &ws.u[o + cx];
-      const float* __restrict va = &ws.v[o], * __restrict vd = &ws.v[o + cx];
-      const float* __restrict za = &ws.z[o], * __restrict zd = &ws.z[o + cx];
-      const float* __restrict aa = &ws.atten[o], * __restrict ad =
-                                                     &ws.atten[o + cx];
-      // Vectorisable: no branches, no calls.
-      for (int i = 0; i < nx_; ++i) {
-        const float au = ua[i], bu = ua[i + 1], cu = ud[i + 1], du = ud[i];
-        const float av = va[i], bv = va[i + 1], cv = vd[i + 1], dv = vd[i];
-        const float z_a = za[i], z_b = za[i + 1], z_c = zd[i + 1], z_d = zd[i];
-        // Intercepted flux (unit irradiance facing the light): the area
-        // vector dotted with the light, e.g. T0: (b - a) x (c - a) =
-        // (-(zb - za) dy, (zb - zc) dx, dx dy).
-        const float phi0 = std::max(
-            -(z_b - z_a) * hdy_ * lx + (z_b - z_c) * hdx_ * ly + hdxdy_, 0.0f);
-        const float phi1 = std::max(
-            (z_d - z_c) * hdy_ * lx - (z_d - z_a) * hdx_ * ly + hdxdy_, 0.0f);
-        pf0[i] = phi0 * (aa[i] + aa[i + 1] + ad[i + 1]) * (1.0f / 3.0f);
-        pf1[i] = phi1 * (aa[i] + ad[i + 1] + ad[i]) * (1.0f / 3.0f);
-        ar0[i] = 0.5f * ((bu - au) * (cv - av) - (bv - av) * (cu - au));
-        ar1[i] = 0.5f * ((cu - au) * (dv - av) - (cv - av) * (du - au));
-        const float min_u = std::min(std::min(au, bu), std::min(cu, du));
-        const float max_u = std::max(std::max(au, bu), std::max(cu, du));
-        const float min_v = std::min(std::min(av, bv), std::min(cv, dv));
-        const float max_v = std::max(std::max(av, bv), std::max(cv, dv));
-        in[i] = (min_u >= 1.0f) & (max_u <= bw_max) & (min_v >= 1.0f) &
-                        (max_v <= bh_max)
-                    ? 1.0f
-                    : 0.0f;
-      }
-      float* w0 = &ws.w0[wi(0, j)];
-      float* w1 = &ws.w1[wi(0, j)];
-      for (int i = 0; i < nx; ++i) {
-        w0[i] = std::abs(ar0[i]) >= kMinArea ? -pf0[i] / ar0[i] : 0.0f;
-        w1[i] = std::abs(ar1[i]) >= kMinArea ? -pf1[i] / ar1[i] : 0.0f;
-      }
-      // The rare cases: a quad reaching outside the buffer (handled per
-      // triangle, as before) or a triangle focused below kMinArea.
-      for (int i = 0; i < nx; ++i) {
-        if (in[i] != 0.0f && std::abs(ar0[i]) >= kMinArea &&
-            std::abs(ar1[i]) >= kMinArea) {
-          continue;
-        }
-        const size_t c00 = o + i, c10 = c00 + 1, c01 = c00 + cx, c11 = c01 + 1;
-        const size_t tris[2][3] = {{c00, c10, c11}, {c00, c11, c01}};
-        for (int t = 0; t < 2; ++t) {
-          float& w = t == 0 ? w0[i] : w1[i];
-          const float pf = t == 0 ? pf0[i] : pf1[i];
-          const float area = t == 0 ? ar0[i] : ar1[i];
-          const size_t a = tris[t][0], b = tris[t][1], c = tris[t][2];
-          const float* u = ws.u.data();
-          const float* v = ws.v.data();
-          const float min_u = std::min({u[a], u[b], u[c]});
-          const float max_u = std::max({u[a], u[b], u[c]});
-          const float min_v = std::min({v[a], v[b], v[c]});
-          const float max_v = std::max({v[a], v[b], v[c]});
-          if (!(min_u >= 1.0f && max_u <= bw - 1.0f && min_v >= 1.0f &&
-                max_v <= bh - 1.0f)) {
-            sum.flux_outside += pf;  // beyond the margin too
-            w = 0.0f;
-          } else if (std::abs(area) < kMinArea) {
-            Splat((u[a] + u[b] + u[c]) / 3.0f, (v[a] + v[b] + v[c]) / 3.0f, pf,
-                  &buf);
-            w = 0.0f;
-          }
-          // else: a counter-clockwise triangle accumulates -1 inside (w).
-        }
-      }
-      if (summary) {
-        // The flux entering the surface, before attenuation.
-        double phi = 0;
-        for (int i = 0; i < nx; ++i) {
-          const float z_a = za[i], z_b = za[i + 1], z_c = zd[i + 1],
-                      z_d = zd[i];
-          phi += std::max(
-              -(z_b - z_a) * hdy * lx + (z_b - z_c) * hdx * ly + hdxdy, 0.0f);
-          phi += std::max(
-              (z_d - z_c) * hdy * lx - (z_d - z_a) * hdx * ly + hdxdy, 0.0f);
-        }
-        sum.flux_in += phi;
-        sum.triangles += 2 * nx;
-      }
-    }
+    bufs[k].Reset(bw, bh);
+    ws.rows[k].resize(static_cast<size_t>(nx) * 5);
+    TrianglesRows(simd, c, ws.rows[k].data(), &bufs[k], &sums[k],
+                  summary != nullptr, j_begin, j_end);
   });
 
-  // 3. Each mesh edge once, weighted by the difference of the two triangles
-  //    it separates (their opposite traversals cancel in the rest).
-  ParallelRows(
-      cy, static_cast<int>(bufs.size()), [&](int k, int j_begin, int j_end) {
-        Buffer& buf = bufs[k];
-        const float* u = ws.u.data();
-        const float* v = ws.v.data();
-        for (int j = j_begin; j < j_end; ++j) {
-          const size_t o = static_cast<size_t>(j) * cx;
-          // Weights of the quads above (row j) and below (row j - 1).
-          const float* w0 = &ws.w0[wi(0, j)];
-          const float* w1 = &ws.w1[wi(0, j)];
-          const float* w1_below = &ws.w1[wi(0, j - 1)];
-          for (int i = 0; i < cx; ++i) {
-            const float cu = u[o + i], cv = v[o + i];
-            if (i < nx) {  // (i, j) -> (i + 1, j): T0 of (i, j), T1 of (i, j-1)
-              AccumulateLine(cu, cv, u[o + i + 1], v[o + i + 1],
-                             w0[i] - w1_below[i], &buf);
-            }
-            if (j < ny) {  // (i, j) -> (i, j + 1): T0 of (i-1, j), T1 of (i, j)
-              AccumulateLine(cu, cv, u[o + cx + i], v[o + cx + i],
-                             w0[i - 1] - w1[i], &buf);
-              if (i < nx) {  // diagonal (i, j) -> (i + 1, j + 1)
-                AccumulateLine(cu, cv, u[o + cx + i + 1], v[o + cx + i + 1],
-                               w1[i] - w0[i], &buf);
-              }
-            }
-          }
-        }
-      });
+  // 3. Edges and corner terms.
+  ParallelRows(cy, static_cast<int>(bufs.size()),
+               [&](int k, int j_begin, int j_end) {
+                 EdgesRows(simd, c, &bufs[k], j_begin, j_end);
+               });
 
-  // 4. Prefix sums, the map region, and relative irradiance: flux over
-  //    (texel area * flat-water irradiance l.z). Four rows at a time, so
-  //    that the four running sums hide each other's add latency.
+  // 4. Resolve the planes, then the map region and relative irradiance:
+  //    flux over (texel area * flat-water irradiance l.z).
   Buffer& total = bufs[0];
   for (size_t k = 1; k < bufs.size(); ++k) {
-    for (size_t i = 0; i < total.edges.size(); ++i) {
-      total.edges[i] += bufs[k].edges[i];
+    for (size_t i = 0; i < total.data.size(); ++i) {
+      total.data[i] += bufs[k].data[i];
     }
   }
-  const float to_map = 1.0f / (texel_area * lz);
-  double in_map = 0, in_buffer = 0;
   const int stride = total.stride;
   // Without a summary only the map's rows matter.
   const int y_first = summary ? 0 : kMargin;
   const int y_last = summary ? bh : kMargin + my;
-  constexpr int kRows = 4;
-  float acc[kRows], row_sum[kRows], map_sum[kRows];
-  for (int y = y_first; y < y_last; y += kRows) {
-    const int n = std::min(kRows, y_last - y);
-    const float* e[kRows];
-    float* out[kRows];
-    for (int r = 0; r < kRows; ++r) {
-      const int yr = y + std::min(r, n - 1);
-      e[r] = &total.edges[static_cast<size_t>(yr) * stride];
-      const bool map_row = yr >= kMargin && yr < kMargin + my;
-      out[r] = map_row ? map->data() + static_cast<size_t>(yr - kMargin) * mx
-                       : nullptr;
-      acc[r] = row_sum[r] = map_sum[r] = 0.0f;
-    }
-    for (int x = 0; x < kMargin; ++x) {
-      for (int r = 0; r < kRows; ++r) {
-        acc[r] += e[r][x];
-        row_sum[r] += acc[r];
-      }
-    }
-    for (int x = kMargin; x < kMargin + mx; ++x) {
-      for (int r = 0; r < kRows; ++r) {
-        acc[r] += e[r][x];
-        map_sum[r] += acc[r];
-        if (out[r]) out[r][x - kMargin] = acc[r] * to_map;
-      }
+  ws.col_c.assign(stride, 0.0f);
+  ws.col_q.assign(stride, 0.0f);
+  ws.resolved.resize(static_cast<size_t>(y_last - y_first) * stride);
+  Resolve(simd, &total, y_first, y_last, ws.col_c.data(), ws.col_q.data(),
+          ws.resolved.data());
+  const float to_map = 1.0f / (texel_area * c.lz);
+  double in_map = 0, in_buffer = 0;
+  for (int y = y_first; y < y_last; ++y) {
+    const float* row =
+        ws.resolved.data() + static_cast<size_t>(y - y_first) * stride;
+    const bool map_row = y >= kMargin && y < kMargin + my;
+    if (map_row) {
+      float* out = map->data() + static_cast<size_t>(y - kMargin) * mx;
+      for (int a = 0; a < mx; ++a) out[a] = row[kMargin + a] * to_map;
     }
     if (summary) {
-      for (int x = kMargin + mx; x < stride; ++x) {
-        for (int r = 0; r < kRows; ++r) {
-          acc[r] += e[r][x];
-          row_sum[r] += acc[r];
-        }
-      }
-      for (int r = 0; r < n; ++r) {
-        in_buffer += static_cast<double>(row_sum[r]) + map_sum[r];
-        if (out[r]) in_map += map_sum[r];
-      }
+      float row_sum = 0, map_sum = 0;
+      for (int x = 0; x < kMargin; ++x) row_sum += row[x];
+      for (int x = kMargin; x < kMargin + mx; ++x) map_sum += row[x];
+      for (int x = kMargin + mx; x < stride; ++x) row_sum += row[x];
+      in_buffer += static_cast<double>(row_sum) + map_sum;
+      if (map_row) in_map += map_sum;
     }
   }
   if (summary) {

@@ -7,8 +7,9 @@
 // Deposition is exact and conservative: every projected triangle spreads its
 // flux uniformly over its projected area, and each map texel receives the
 // flux of exactly the part of the triangle that overlaps it (analytic area
-// coverage, accumulated per edge and prefix-summed per row as in font-rs'
-// accumulation rasteriser). The flux deposited therefore equals the flux
+// coverage, accumulated once per mesh edge and prefix-summed as in font-rs'
+// accumulation rasteriser, along x or along y for flat edges, with exact
+// corner terms; AVX2 where the CPU has it). The flux deposited equals the flux
 // entering the surface (minus what lands outside the map, which the summary
 // counts), and flat water gives a uniform map. A triangle focused to less
 // than a tenth of a texel is splatted bilinearly at its centroid, so
@@ -34,6 +35,9 @@ struct CausticsOptions {
   // normalised by the flat-water path so that flat water reads 1.
   double attenuation_per_m = 0.0;
   int threads = 1;  // CPU threads; each adds a private accumulation map
+  // AVX2 kernels where the CPU has them; false forces the baseline-ISA
+  // build of the same kernels (identical results; for tests).
+  bool simd = true;
 
   bool IsValid(std::string* error) const;
 };

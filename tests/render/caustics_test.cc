@@ -122,6 +122,29 @@ TEST(CausticsTest, RippleFocusesLight) {
   EXPECT_NEAR(map[10 * 256 + 10], 1.0, 1e-3);
 }
 
+// The AVX2 and baseline-ISA builds of the kernels agree (the CPU picks one
+// at run time; `simd = false` forces the baseline).
+TEST(CausticsTest, SimdAndBaselineAgree) {
+  Field f = MakeField(0.003, 0.01);
+  for (const glm::dvec3 light :
+       {glm::dvec3(0, 0, 1), glm::dvec3(0.35, 0.25, 1.0)}) {
+    CausticsOptions o;
+    o.attenuation_per_m = 5.0;
+    std::vector<float> a, b;
+    CausticsSummary sa, sb;
+    ASSERT_TRUE(ComputeCaustics(o, f.view, TankGeometry{}, light, &a, &sa));
+    o.simd = false;
+    ASSERT_TRUE(ComputeCaustics(o, f.view, TankGeometry{}, light, &b, &sb));
+    ASSERT_EQ(a.size(), b.size());
+    float worst = 0;
+    for (size_t k = 0; k < a.size(); ++k) {
+      worst = std::max(worst, std::abs(a[k] - b[k]));
+    }
+    EXPECT_LE(worst, 1e-4f);
+    EXPECT_NEAR(sa.flux_deposited, sb.flux_deposited, 1e-6 * sa.flux_in);
+  }
+}
+
 TEST(CausticsTest, AttenuationIsRelativeToFlatWater) {
   Field f = MakeField(0.0);
   CausticsOptions o;

@@ -170,8 +170,13 @@ float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
     for (int row = r0; row <= r1; ++row) {
       for (int col = c0; col <= c1; ++col) {
         if (!t.black[row * t.n + col]) continue;
-        const double x0 = t.origin + col * t.cell, y0 = t.origin + row * t.cell;
-        sum += delta * covered_area(x0, y0, x0 + t.cell, y0 + t.cell);
+        // Cells are trimmed to the layer's rectangle (a trimmed sticker).
+        const double x0 = std::max(r.x0, t.origin + col * t.cell);
+        const double y0 = std::max(r.y0, t.origin + row * t.cell);
+        const double x1 = std::min(r.x1, t.origin + (col + 1) * t.cell);
+        const double y1 = std::min(r.y1, t.origin + (row + 1) * t.cell);
+        if (x1 <= x0 || y1 <= y0) continue;
+        sum += delta * covered_area(x0, y0, x1, y1);
       }
     }
   }
@@ -364,8 +369,22 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
         if (tag_z.dot(z) < 0.9) continue;
         DrawItem tag_item;
         tag_item.layer.cam_from_plane = cam_from_pen * t.object_from_tag;
+        // The printed square (tag plus white margin) is trimmed to the part
+        // that lies on its face, as a sticker glued slightly off-centre
+        // would be: the largest tag-aligned rectangle inside the face, so a
+        // perturbed tag never overhangs onto a neighbouring face.
         const double h = -impl.pen_tags[i].origin;
-        tag_item.layer.rect = {-h, -h, h, h};
+        const Pose face_from_tag = pen_from_face.Inverse() * t.object_from_tag;
+        const Vector3d x_in_face = face_from_tag.R().col(0);
+        const double turn =
+            std::atan2(std::abs(x_in_face.y()), std::abs(x_in_face.x()));
+        const double inner = 0.5 * e / (std::cos(turn) + std::sin(turn));
+        const Vector3d centre_in_tag =
+            face_from_tag.Inverse() * Vector3d::Zero();
+        tag_item.layer.rect = {std::max(-h, centre_in_tag.x() - inner),
+                               std::max(-h, centre_in_tag.y() - inner),
+                               std::min(h, centre_in_tag.x() + inner),
+                               std::min(h, centre_in_tag.y() + inner)};
         tag_item.layer.base = kPaper;
         tag_item.layer.tag = &impl.pen_tags[i];
         tag_item.layer.shade = it.layer.shade;

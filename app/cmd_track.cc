@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "app/app_common.h"
+#include "app/app_options.h"
+#include "app/app_source.h"
 #include "app/app_video.h"
 #include "app/command.h"
 #include "tracking/pose_csv.h"
@@ -22,70 +24,6 @@ namespace {
 namespace fs = std::filesystem;
 using tracking::FrameResult;
 using tracking::TrackStatus;
-
-// Frames from an image folder (sorted by name), a video file or a camera
-// (an index such as 0, or a device path under /dev).
-class FrameSource {
- public:
-  bool Open(const std::string& input, std::string* error) {
-    std::error_code ec;
-    if (fs::is_directory(input, ec)) {
-      for (const auto& entry : fs::directory_iterator(input, ec)) {
-        std::string ext = entry.path().extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), ::tolower);
-        if (ext == ".png" || ext == ".jpg" || ext == ".jpeg" || ext == ".bmp" ||
-            ext == ".pgm" || ext == ".ppm" || ext == ".tif" || ext == ".tiff")
-          files_.push_back(entry.path().string());
-      }
-      std::sort(files_.begin(), files_.end());
-      if (files_.empty()) {
-        *error = "--input '" + input + "': no images in folder";
-        return false;
-      }
-      return true;
-    }
-    const bool is_index =
-        !input.empty() && std::all_of(input.begin(), input.end(), ::isdigit);
-    capture_ = std::make_unique<cv::VideoCapture>();
-    if (is_index) {
-      capture_->open(std::stoi(input));
-      live_ = true;
-    } else {
-      if (!fs::exists(input, ec)) {
-        *error = "--input '" + input + "': no such file, folder or camera";
-        return false;
-      }
-      capture_->open(input);
-      live_ = input.rfind("/dev/", 0) == 0;
-    }
-    if (!capture_->isOpened()) {
-      *error = "--input '" + input + "': cannot open as video or camera";
-      return false;
-    }
-    return true;
-  }
-  // The source's own frame rate, 0 when unknown.
-  double Fps() const {
-    return capture_ && !live_ ? capture_->get(cv::CAP_PROP_FPS) : 0.0;
-  }
-  bool Read(cv::Mat* frame, std::string* name) {
-    if (capture_) {
-      *name = "frame " + std::to_string(index_++);
-      return capture_->read(*frame) && !frame->empty();
-    }
-    if (index_ >= files_.size()) return false;
-    *name = files_[index_];
-    *frame = cv::imread(files_[index_++], cv::IMREAD_COLOR);
-    return !frame->empty();
-  }
-  bool AtEnd() const { return !capture_ && index_ >= files_.size(); }
-
- private:
-  std::vector<std::string> files_;
-  std::unique_ptr<cv::VideoCapture> capture_;
-  bool live_ = false;
-  size_t index_ = 0;
-};
 
 void DrawAxes(cv::Mat* image, const tracking::Camera& camera,
               const tracking::Pose& cam_from_object, double length,
@@ -184,29 +122,19 @@ int RunTrack(const TrackArgs& args) {
   std::string error;
   if (!options.IsValid(&error)) return Fail(kExitBadInput, error);
 
-  FrameSource source;
-  if (!source.Open(args.input, &error)) return Fail(kExitBadInput, error);
-  const double fps =
-      args.fps > 0 ? args.fps : (source.Fps() > 0 ? source.Fps() : 30.0);
+  const double fps = args.fps > 0 ? args.fps : 30.0;
+  auto source = FrameSource::Open(args.input, &error, fps);
+  if (!source) return Fail(kExitBadInput, error);
 
   cv::Mat image;
-  std::string name;
-  if (!source.Read(&image, &name))
-    return Fail(kExitRuntime, "--input '" + args.input + "': no frame read");
-  if (image.cols != camera->width || image.rows != camera->height) {
-    // Same aspect ratio: the calibration scales; otherwise it does not fit.
-    if (std::abs(double(image.cols) / image.rows -
-                 double(camera->width) / camera->height) > 1e-3)
-      return Fail(
-          kExitBadInput,
-          "--camera '" + args.camera + "' is " + std::to_string(camera->width) +
-              "x" + std::to_string(camera->height) + " but the input is " +
-              std::to_string(image.cols) + "x" + std::to_string(image.rows));
-    std::fprintf(stderr,
-                 "ripple: note: scaling the %dx%d calibration to %dx%d\n",
-                 camera->width, camera->height, image.cols, image.rows);
-    *camera = camera->Scaled(image.cols, image.rows);
-  }
+  double time_s = 0;
+  if (!source->Read(&image, &time_s))
+    return Fail(source->error().empty() ? kExitBadInput : kExitRuntime,
+                source->error().empty()
+                    ? "--input '" + args.input + "': no frame read"
+                    : source->error());
+  if (!MatchCameraToFrames(image.size(), args.camera, &*camera, &error))
+    return Fail(kExitBadInput, error);
 
   tracking::PoseCsvWriter csv;
   if (!csv.Open(args.out, &error)) return Fail(kExitBadInput, error);
@@ -220,8 +148,9 @@ int RunTrack(const TrackArgs& args) {
   std::vector<double> ms;
   do {
     if (image.cols != camera->width || image.rows != camera->height)
-      return Fail(kExitRuntime, name + ": frame size changed mid-stream");
-    const FrameResult r = tracker.Track(image, frames / fps);
+      return Fail(kExitRuntime, "frame " + std::to_string(frames) + " of '" +
+                                    args.input + "' changed size mid-stream");
+    const FrameResult r = tracker.Track(image, time_s);
     for (const tracking::PoseRow& row : tracker.ToPoseRows(r)) {
       if (!csv.Write(row))
         return Fail(kExitRuntime, "cannot write '" + args.out + "'");
@@ -236,12 +165,13 @@ int RunTrack(const TrackArgs& args) {
     }
     ++frames;
     if (args.max_frames > 0 && frames >= args.max_frames) break;
-  } while (source.Read(&image, &name));
+  } while (source->Read(&image, &time_s));
   overlay.Close();
   if (!csv.Close())
     return Fail(kExitRuntime, "cannot finish '" + args.out + "'");
-  if (!source.AtEnd() && args.max_frames == 0 && frames == 0)
-    return Fail(kExitRuntime, "--input '" + args.input + "': truncated");
+  if (!source->error().empty())
+    return Fail(kExitRuntime, source->error() + " (poses written for " +
+                                  std::to_string(frames) + " frames)");
   std::sort(ms.begin(), ms.end());
   std::printf(
       "track: %d frames, tank tracked %d (%.0f%%), pen tracked %d (%.0f%%), "
@@ -266,7 +196,8 @@ CommandAction SetupTrack(CLI::App* sub) {
   sub->add_option("--overlay", args->overlay,
                   "Debug video: corners, ids, axes, tip (.mp4, .mkv, .avi)");
   sub->add_option("--fps", args->fps,
-                  "Frame rate for timestamps (default: the video's, else 30)")
+                  "Frame rate of an image folder and of the overlay video "
+                  "(videos use their own timestamps; default 30)")
       ->check(CLI::PositiveNumber);
   sub->add_option("--max-frames", args->max_frames, "Stop after N frames")
       ->check(CLI::NonNegativeNumber);

@@ -37,6 +37,22 @@ double ShoelaceArea(const Eigen::Vector2d* p, int n) {
 
 }  // namespace
 
+// Clips a convex quad to [x0, x1] x [y0, y1]; the result (at most 8
+// vertices) is written to `out` and its size returned (< 3: empty).
+static int ClipQuadToRect(const Eigen::Vector2d quad[4], double x0, double y0,
+                          double x1, double y1, Eigen::Vector2d out[8]) {
+  Eigen::Vector2d tmp[8];
+  int n = 4;
+  for (int i = 0; i < 4; ++i) out[i] = quad[i];
+  n = ClipAxis(out, n, 0, x0, -1, tmp);
+  if (n < 3) return 0;
+  n = ClipAxis(tmp, n, 0, x1, +1, out);
+  if (n < 3) return 0;
+  n = ClipAxis(out, n, 1, y0, -1, tmp);
+  if (n < 3) return 0;
+  return ClipAxis(tmp, n, 1, y1, +1, out);
+}
+
 double QuadRectArea(const Eigen::Vector2d quad[4], double x0, double y0,
                     double x1, double y1) {
   double qx0 = quad[0].x(), qx1 = qx0, qy0 = quad[0].y(), qy1 = qy0;
@@ -49,36 +65,19 @@ double QuadRectArea(const Eigen::Vector2d quad[4], double x0, double y0,
   if (qx1 <= x0 || qx0 >= x1 || qy1 <= y0 || qy0 >= y1) return 0.0;
   if (qx0 >= x0 && qx1 <= x1 && qy0 >= y0 && qy1 <= y1)
     return std::abs(ShoelaceArea(quad, 4));
-  // A convex quad clipped by 4 half-planes has at most 8 vertices.
-  Eigen::Vector2d a[8], b[8];
-  int n = 4;
-  for (int i = 0; i < 4; ++i) a[i] = quad[i];
-  n = ClipAxis(a, n, 0, x0, -1, b);
-  if (n < 3) return 0.0;
-  n = ClipAxis(b, n, 0, x1, +1, a);
-  if (n < 3) return 0.0;
-  n = ClipAxis(a, n, 1, y0, -1, b);
-  if (n < 3) return 0.0;
-  n = ClipAxis(b, n, 1, y1, +1, a);
-  if (n < 3) return 0.0;
-  return std::abs(ShoelaceArea(a, n));
+  Eigen::Vector2d clipped[8];
+  const int n = ClipQuadToRect(quad, x0, y0, x1, y1, clipped);
+  return n < 3 ? 0.0 : std::abs(ShoelaceArea(clipped, n));
 }
 
 double QuadRectMappedArea(const Eigen::Vector2d quad[4], double x0, double y0,
                           double x1, double y1, const Eigen::Matrix3d& h) {
-  Eigen::Vector2d a[8], b[8];
-  int n = 4;
-  for (int i = 0; i < 4; ++i) a[i] = quad[i];
-  n = ClipAxis(a, n, 0, x0, -1, b);
+  Eigen::Vector2d clipped[8];
+  const int n = ClipQuadToRect(quad, x0, y0, x1, y1, clipped);
   if (n < 3) return 0.0;
-  n = ClipAxis(b, n, 0, x1, +1, a);
-  if (n < 3) return 0.0;
-  n = ClipAxis(a, n, 1, y0, -1, b);
-  if (n < 3) return 0.0;
-  n = ClipAxis(b, n, 1, y1, +1, a);
-  if (n < 3) return 0.0;
-  for (int i = 0; i < n; ++i) b[i] = (h * a[i].homogeneous()).hnormalized();
-  return std::abs(ShoelaceArea(b, n));
+  for (int i = 0; i < n; ++i)
+    clipped[i] = (h * clipped[i].homogeneous()).hnormalized();
+  return std::abs(ShoelaceArea(clipped, n));
 }
 
 double PolygonArea(const std::vector<Eigen::Vector2d>& polygon) {

@@ -60,6 +60,14 @@ struct Outcome {
   std::optional<Pose> tank, pen;
   bool tank_tracked = false, pen_tracked = false;
   double ms = 0;
+  std::string pen_tags;  // faces used, '+'-separated (settings only)
+  bool pen_flip_rejected = false, pen_jumped = false, pen_ambiguous = false;
+};
+
+// Per-frame errors of one setting (the --frames-csv rows).
+struct FrameErrors {
+  double tank_rot_deg = NAN, pen_rot_deg = NAN, tip_mm = NAN;
+  bool flip = false;
 };
 
 std::string SettingName(const tracking::TrackerOptions& o) {
@@ -92,6 +100,8 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
             o.roi_search = roi;
             list.push_back(o);
           }
+  } else if (sweep == "default") {
+    list.push_back(defaults);
   } else {
     list.push_back(defaults);
     for (double d : {1.0, 1.5, 2.0, 3.0}) {
@@ -110,10 +120,12 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
     o.roi_search = !defaults.roi_search;
     list.push_back(o);
   }
-  tracking::TrackerOptions frontal = defaults;
-  frontal.pen_mode = tracking::PenMode::kBestFace;
-  frontal.face_selection = tracking::FaceSelection::kMostFrontal;
-  list.push_back(frontal);
+  if (sweep != "default") {
+    tracking::TrackerOptions frontal = defaults;
+    frontal.pen_mode = tracking::PenMode::kBestFace;
+    frontal.face_selection = tracking::FaceSelection::kMostFrontal;
+    list.push_back(frontal);
+  }
   std::vector<std::unique_ptr<Setting>> settings;
   for (tracking::TrackerOptions& o : list) {
     o.detector.threads = threads;
@@ -128,6 +140,7 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
       s->name += " [default]";
     settings.push_back(std::move(s));
   }
+  if (sweep == "default") return settings;
   for (auto [b, name] :
        {std::make_pair(Baseline::kPaper,
                        "paper: frontal face, estimate_tag_pose"),
@@ -169,9 +182,10 @@ Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
   return o;
 }
 
-void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
-                const synth::RenderedFrame& frame, const Outcome& o,
-                Setting* s) {
+FrameErrors Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
+                       const synth::RenderedFrame& frame, const Outcome& o,
+                       Setting* s) {
+  FrameErrors fe;
   s->ms.push_back(o.ms);
   const bool tank_visible = !frame.tank_tags.empty();
   const bool pen_visible = !frame.pen_tags.empty();
@@ -184,6 +198,7 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
     const double r =
         tracking::RotationDistance(*o.tank, spec.scene.cam_from_tank);
     s->tank_rot.push_back(r / kDeg);
+    fe.tank_rot_deg = r / kDeg;
     s->tank_mm.push_back(1000 * tracking::TranslationDistance(
                                     *o.tank, spec.scene.cam_from_tank));
     flip |= r > 10 * kDeg;
@@ -192,6 +207,7 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
     const Pose truth = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
     const double r = tracking::RotationDistance(*o.pen, truth);
     s->pen_rot.push_back(r / kDeg);
+    fe.pen_rot_deg = r / kDeg;
     s->pen_mm.push_back(1000 * tracking::TranslationDistance(*o.pen, truth));
     flip |= r > 10 * kDeg;
     if (o.tank) {
@@ -200,9 +216,12 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
       const Eigen::Vector3d true_tip =
           *spec.scene.tank_from_pen * rig.pen->tip_in_pen;
       s->tip_mm.push_back(1000 * (tip - true_tip).norm());
+      fe.tip_mm = s->tip_mm.back();
     }
   }
   s->flips += flip;
+  fe.flip = flip;
+  return fe;
 }
 
 // Error against time, one point per setting (log-scaled axes).
@@ -288,6 +307,8 @@ struct BenchArgs {
   std::vector<std::string> sizes = {"640x480", "1280x720"};
   std::string sweep = "short";
   int frames = 500;
+  int first = 0;  // frames before this are not rendered or tracked
+  bool frames_csv = false;
   int threads = 1;
   uint64_t seed = 1;
 };
@@ -302,6 +323,14 @@ int RunBenchTracking(const BenchArgs& args) {
   const std::string csv_path = args.out + "/bench_tracking.csv";
   std::ofstream csv(csv_path);
   if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
+  std::ofstream fcsv;
+  if (args.frames_csv) {
+    fcsv.open(args.out + "/bench_tracking_frames.csv");
+    if (!fcsv) return Fail(kExitBadInput, "cannot write the frames CSV");
+    fcsv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,flip,"
+            "pen_faces_visible,pen_face_px,pen_status,pen_tags,"
+            "pen_flip_rejected,pen_jumped,pen_ambiguous\n";
+  }
   csv << "size,frames,setting,ms_median,ms_p95,tank_rot_deg_median,"
          "tank_rot_deg_p95,tank_mm_median,tank_mm_p95,pen_rot_deg_median,"
          "pen_rot_deg_p95,tip_mm_median,tip_mm_p95,flips,tank_tracked_share,"
@@ -344,6 +373,7 @@ int RunBenchTracking(const BenchArgs& args) {
     double render_ms = 0;
     const double start = NowMs();
     for (const synth::FrameSpec& spec : specs) {
+      if (spec.index < args.first) continue;
       const double r0 = NowMs();
       const synth::RenderedFrame frame =
           renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
@@ -362,6 +392,7 @@ int RunBenchTracking(const BenchArgs& args) {
       }
       for (auto& s : settings) {
         Outcome o;
+        std::string pen_status = "";
         if (s->baseline != Baseline::kNone) {
           const auto& [dets, ms] = shared[default_d];
           o = RunBaseline(s->baseline, camera, *rig, dets);
@@ -379,8 +410,27 @@ int RunBenchTracking(const BenchArgs& args) {
           o.tank_tracked = r.tank.status == tracking::TrackStatus::kTracked;
           o.pen_tracked = r.pen.status == tracking::TrackStatus::kTracked;
           o.ms = r.timings.total_ms;
+          for (int id : r.pen.tags)
+            o.pen_tags += (o.pen_tags.empty() ? "" : "+") + std::to_string(id);
+          o.pen_flip_rejected = r.pen.flip_rejected;
+          o.pen_jumped = r.pen.jumped;
+          o.pen_ambiguous = r.pen.ambiguous;
+          pen_status = tracking::ToString(r.pen.status);
         }
-        Accumulate(*rig, spec, frame, o, s.get());
+        const FrameErrors fe = Accumulate(*rig, spec, frame, o, s.get());
+        if (fcsv.is_open()) {
+          double face_px = 0;
+          for (const tracking::TagDetection& d : shared[default_d].first)
+            if (rig->pen)
+              for (const tracking::TagPlacement& f : rig->pen->faces)
+                if (f.id == d.id) face_px = std::max(face_px, d.SizePx());
+          fcsv << size << ',' << spec.index << ",\"" << s->name << "\","
+               << fe.tank_rot_deg << ',' << fe.pen_rot_deg << ',' << fe.tip_mm
+               << ',' << fe.flip << ',' << frame.pen_tags.size() << ','
+               << face_px << ',' << pen_status << ',' << o.pen_tags << ','
+               << o.pen_flip_rejected << ',' << o.pen_jumped << ','
+               << o.pen_ambiguous << '\n';
+        }
       }
       if ((spec.index + 1) % 50 == 0)
         std::fprintf(stderr, "\rbench tracking %s: %d/%zu frames", size.c_str(),
@@ -447,9 +497,18 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
       ->delimiter(',');
   sub->add_option("--sweep", args->sweep,
                   "full: decimation x refinement x pen mode x region search; "
-                  "short: one factor at a time around the default")
+                  "short: one factor at a time around the default; "
+                  "default: the default setting only, no baselines")
       ->capture_default_str()
-      ->check(CLI::IsMember({"full", "short"}));
+      ->check(CLI::IsMember({"full", "short", "default"}));
+  sub->add_option("--first", args->first,
+                  "Skip (neither render nor track) the frames before this one "
+                  "of the sequence (to look at one segment)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
+  sub->add_flag("--frames-csv", args->frames_csv,
+                "Also write per-frame errors of every setting to "
+                "bench_tracking_frames.csv");
   sub->add_option("--threads", args->threads, "Detector threads")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

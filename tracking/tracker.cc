@@ -89,6 +89,12 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
     return fail("flip_angle_deg must be in (0, 180)");
+  if (!(hypothesis_decay >= 0 && hypothesis_decay <= 1))
+    return fail("hypothesis_decay must be in [0, 1]");
+  if (!(hypothesis_resolve_ratio > 0 && hypothesis_resolve_ratio < 1))
+    return fail("hypothesis_resolve_ratio must be in (0, 1)");
+  if (hypothesis_min_frames < 1)
+    return fail("hypothesis_min_frames must be >= 1");
   if (!(ambiguity_margin_px >= 0))
     return fail("ambiguity_margin_px must be >= 0");
   if (!(flip_keep_rmse_px >= 0)) return fail("flip_keep_rmse_px must be >= 0");
@@ -205,6 +211,101 @@ std::optional<Tracker::Estimate> Tracker::CheckFlip(
   return e;
 }
 
+void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
+                              bool use_prior, double time_s,
+                              Estimate* e) const {
+  if (!options_.pen_multi_hypothesis) return;
+  const double flip = options_.flip_angle_deg * kDegToRad;
+  auto fits = [&](const ObjectPose& p) {
+    return p.rmse_px <= options_.max_rmse_px;
+  };
+  if (use_prior && pen_.last_raw && pen_.other_raw) {
+    // Both branches alive: refine each from its own last pose.
+    ObjectPose main, other;
+    const bool main_ok =
+        RefineObjectPose(options_.pose, camera_, obs, *pen_.last_raw, &main) &&
+        fits(main);
+    const bool other_ok = RefineObjectPose(options_.pose, camera_, obs,
+                                           *pen_.other_raw, &other) &&
+                          fits(other);
+    if (!main_ok && !other_ok) return;  // this frame's own estimate stands
+    const double d = options_.hypothesis_decay;
+    double cost = d * pen_.cost + main.sse_px2;
+    double other_cost = d * pen_.other_cost + other.sse_px2;
+    const int frames = pen_.hypothesis_frames + 1;
+    // A decisive frame (e.g. a second face came into view): one branch fails
+    // to explain the corners and the other does clearly better.
+    const double resolve = options_.hypothesis_resolve_ratio;
+    auto beats = [&](const ObjectPose& a, const ObjectPose& b) {
+      return b.rmse_px > options_.flip_keep_rmse_px &&
+             a.sse_px2 < resolve * b.sse_px2;
+    };
+    const bool decisive =
+        main_ok && other_ok && (beats(main, other) || beats(other, main));
+    // Reported: the branch reported so far until the other's error sum is
+    // clearly lower (or the only one left, or the decisive winner).
+    const bool swap = !main_ok || (decisive && beats(other, main)) ||
+                      (!decisive && other_ok &&
+                       other_cost < options_.hypothesis_switch_ratio * cost);
+    if (swap) {
+      std::swap(main, other);
+      std::swap(cost, other_cost);
+    }
+    const bool other_alive =
+        main_ok && other_ok && !decisive &&
+        RotationDistance(main.cam_from_object, other.cam_from_object) > flip &&
+        !(frames >= options_.hypothesis_min_frames &&
+          cost < resolve * other_cost);
+    e->pose = main;
+    e->flip_rejected = false;
+    e->jumped = false;
+    e->other.reset();
+    e->cost = cost;
+    e->other_cost = 0;
+    e->hypothesis_frames = 0;
+    if (other_alive) {
+      e->pose.alternative = other.cam_from_object;
+      e->pose.alternative_rmse_px = other.rmse_px;
+      e->other = other.cam_from_object;
+      e->other_cost = other_cost;
+      e->hypothesis_frames = frames;
+    }
+    return;
+  }
+  // A new ambiguity: this frame's estimate came with a close other branch
+  // (not one that flip rejection just turned down: that one is a glitch
+  // against a tracked pose).
+  if (e->flip_rejected || !e->pose.alternative ||
+      e->pose.alternative_rmse_px >
+          e->pose.rmse_px + options_.ambiguity_margin_px ||
+      RotationDistance(*e->pose.alternative, e->pose.cam_from_object) <= flip)
+    return;
+  ObjectPose other;
+  if (!RefineObjectPose(options_.pose, camera_, obs, *e->pose.alternative,
+                        &other) ||
+      other.rmse_px > options_.max_rmse_px)
+    return;
+  // Re-acquired shortly after a loss: report the branch nearer the last
+  // pose (a pen does not turn by the gap between two branches while briefly
+  // hidden).
+  if (use_prior && !pen_.last_raw && pen_.lost_raw &&
+      time_s - pen_.last_seen_s <= options_.hypothesis_memory_s &&
+      RotationDistance(other.cam_from_object, *pen_.lost_raw) <
+          RotationDistance(e->pose.cam_from_object, *pen_.lost_raw)) {
+    other.alternative = e->pose.cam_from_object;
+    other.alternative_rmse_px = e->pose.rmse_px;
+    std::swap(e->pose, other);
+  }
+  if (std::getenv("RIPPLE_HYP_DEBUG"))
+    std::fprintf(stderr, "hyp start main %.3f (%.2f px) other %.3f (%.2f px)\n",
+                 e->pose.sse_px2, e->pose.rmse_px, other.sse_px2,
+                 other.rmse_px);
+  e->other = other.cam_from_object;
+  e->cost = e->pose.sse_px2;
+  e->other_cost = other.sse_px2;
+  e->hypothesis_frames = 1;
+}
+
 std::optional<Tracker::Estimate> Tracker::EstimateTank(
     const std::vector<TagObservation>& obs, bool use_prior) const {
   ObjectPose pose;
@@ -257,16 +358,22 @@ void Tracker::PreferPlausibleTip(const std::vector<TagObservation>& obs,
 
 std::optional<Tracker::Estimate> Tracker::EstimatePen(
     const std::vector<TagObservation>& obs, bool use_prior,
-    const std::optional<Pose>& cam_from_tank) const {
+    const std::optional<Pose>& cam_from_tank, double time_s) const {
   const std::optional<Pose> prior = use_prior ? pen_.last_raw : std::nullopt;
   const bool use_tip_prior =
       options_.pen_tip_prior && !prior && cam_from_tank.has_value();
+  // Acquiring: refine the other branch of an ambiguous view however much
+  // worse its IPPE start is, so that both can be followed.
+  PoseEstimatorOptions acquire = options_.pose;
+  if (options_.pen_multi_hypothesis) acquire.ambiguity_ratio = 1e12;
   if (options_.pen_mode == PenMode::kJoint || obs.size() == 1) {
     ObjectPose pose;
-    if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
+    if (!EstimateObjectPose(prior ? options_.pose : acquire, camera_, obs, {},
+                            &pose))
       return std::nullopt;
     if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);
-    auto e = CheckFlip(obs, pose, prior);
+    auto e = CheckFlip(obs, pose, pen_.other_raw ? std::nullopt : prior);
+    if (e) TrackHypotheses(obs, use_prior, time_s, &*e);
     if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
     return e;
   }
@@ -294,7 +401,9 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   }
   if (!best) return std::nullopt;
   if (use_tip_prior) PreferPlausibleTip(best_obs, *cam_from_tank, &best->pose);
-  auto e = CheckFlip(best_obs, best->pose, prior);
+  auto e =
+      CheckFlip(best_obs, best->pose, pen_.other_raw ? std::nullopt : prior);
+  if (e) TrackHypotheses(best_obs, use_prior, time_s, &*e);
   if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
   return e;
 }
@@ -312,7 +421,13 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
     out->reinitialized = fresh;
     out->flip_rejected = estimate->flip_rejected;
     out->jumped = estimate->jumped && !cut;
+    out->ambiguous = estimate->other.has_value();
     state->last_raw = estimate->pose.cam_from_object;
+    state->lost_raw.reset();
+    state->other_raw = estimate->other;
+    state->cost = estimate->cost;
+    state->other_cost = estimate->other_cost;
+    state->hypothesis_frames = estimate->hypothesis_frames;
     out->cam_from_object =
         state->filter.Filter(estimate->pose.cam_from_object, time_s);
     state->last_output = out->cam_from_object;
@@ -325,8 +440,11 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
     out->cam_from_object = state->last_output;
     return;
   }
+  if (state->last_raw) state->lost_raw = state->last_raw;
+  if (cut) state->lost_raw.reset();
   state->last_raw.reset();
   state->last_output.reset();
+  state->other_raw.reset();
   state->filter.Reset();
   out->status = TrackStatus::kLost;
 }
@@ -349,7 +467,8 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
         MatchObservations(camera_, rig_.pen->faces, detections);
     std::optional<Estimate> pen_estimate;
     if (!pen_obs.empty())
-      pen_estimate = EstimatePen(pen_obs, use_prior, r.tank.cam_from_object);
+      pen_estimate =
+          EstimatePen(pen_obs, use_prior, r.tank.cam_from_object, time_s);
     UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
                  &r.pen);
     if (r.tank.has_pose() && r.pen.has_pose()) {

@@ -83,6 +83,27 @@ struct TrackerOptions {
   // Ambiguous means the other branch's RMS error is within this of the
   // chosen one's (pixels).
   double ambiguity_margin_px = 1.0;
+  // Two-hypothesis pen track: when the pen is acquired (or seen) from an
+  // ambiguous view, the other branch is kept alive next to the reported one
+  // and both are refined from their own previous poses on every frame's
+  // corners (newly visible faces included). Each carries a decaying sum of
+  // its squared errors (hypothesis_decay per frame); the reported pose is
+  // the branch with the lower sum, and flip rejection never holds one branch
+  // against the other while both are alive (ObjectTrack::ambiguous). The
+  // losing branch is dropped once its sum exceeds the winner's by
+  // 1 / hypothesis_resolve_ratio (after hypothesis_min_frames frames), at
+  // once when it fails to explain a frame (RMS error above max_rmse_px, e.g.
+  // a second face appeared), or when the two branches merge.
+  bool pen_multi_hypothesis = true;
+  double hypothesis_decay = 0.9;
+  // The reported branch changes when the other's sum falls below this
+  // fraction of its own.
+  double hypothesis_switch_ratio = 0.5;
+  // An ambiguous pen re-acquired within this long of being lost starts on
+  // the branch nearer its last pose (seconds).
+  double hypothesis_memory_s = 0.5;
+  double hypothesis_resolve_ratio = 0.1;
+  int hypothesis_min_frames = 5;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;
   double pen_hold_s = 0.0;
@@ -109,6 +130,9 @@ struct ObjectTrack {
   bool reinitialized = false;  // first pose after being lost, or after a cut
   bool flip_rejected = false;  // a >flip_angle jump was resolved back
   bool jumped = false;  // a >flip_angle jump was accepted (clearly lower error)
+  // Two branches of an ambiguous view are both alive (pen only); the pose is
+  // the one that explains the corners better so far, and may still switch.
+  bool ambiguous = false;
 
   bool has_pose() const { return cam_from_object.has_value(); }
 };
@@ -162,23 +186,39 @@ class Tracker {
     double last_seen_s = 0;
     bool ever_seen = false;
     PoseFilter filter;
+    // The other branch of an ambiguous view (pen_multi_hypothesis), and the
+    // decaying error sums of the reported branch and of it.
+    std::optional<Pose> other_raw;
+    std::optional<Pose> lost_raw;  // last_raw when the object was lost
+    double cost = 0, other_cost = 0;
+    int hypothesis_frames = 0;
   };
   struct Estimate {
     ObjectPose pose;
     bool flip_rejected = false;
     bool jumped = false;
+    // Two-hypothesis state to carry forward (see ObjectState).
+    std::optional<Pose> other;
+    double cost = 0, other_cost = 0;
+    int hypothesis_frames = 0;
   };
 
   std::vector<cv::Rect> PredictRois() const;
   bool IsCut(const std::vector<TagDetection>& detections) const;
   std::optional<Estimate> EstimateTank(const std::vector<TagObservation>& obs,
                                        bool use_prior) const;
-  std::optional<Estimate> EstimatePen(
-      const std::vector<TagObservation>& obs, bool use_prior,
-      const std::optional<Pose>& cam_from_tank) const;
+  std::optional<Estimate> EstimatePen(const std::vector<TagObservation>& obs,
+                                      bool use_prior,
+                                      const std::optional<Pose>& cam_from_tank,
+                                      double time_s) const;
   // Applies pen_tip_prior to an estimate made without a prior.
   void PreferPlausibleTip(const std::vector<TagObservation>& obs,
                           const Pose& cam_from_tank, ObjectPose* pose) const;
+  // Carries the two branches of an ambiguous pen forward (see
+  // TrackerOptions::pen_multi_hypothesis); `e` is this frame's estimate from
+  // `obs`, after the flip check.
+  void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
+                       double time_s, Estimate* e) const;
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
                                     const ObjectPose& estimate,
                                     const std::optional<Pose>& prior) const;

@@ -220,14 +220,29 @@ void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
     return p.rmse_px <= options_.max_rmse_px;
   };
   if (use_prior && pen_.last_raw && pen_.other_raw) {
-    // Both branches alive: refine each from its own last pose.
+    // Both branches alive: refine each from its own last pose. Without
+    // refinement, each follows the nearest of this frame's two IPPE branches.
+    const std::vector<Pose> fresh =
+        e->pose.alternative
+            ? std::vector<Pose>{e->pose.cam_from_object, *e->pose.alternative}
+            : std::vector<Pose>{e->pose.cam_from_object};
+    auto follow = [&](const Pose& from, ObjectPose* out) {
+      if (options_.pose.refine)
+        return RefineObjectPose(options_.pose, camera_, obs, from, out) &&
+               fits(*out);
+      const Pose* nearest = nullptr;
+      for (const Pose& p : fresh)
+        if (RotationDistance(p, from) <= flip &&
+            (!nearest ||
+             RotationDistance(p, from) < RotationDistance(*nearest, from)))
+          nearest = &p;
+      return nearest &&
+             RefineObjectPose(options_.pose, camera_, obs, *nearest, out) &&
+             fits(*out);
+    };
     ObjectPose main, other;
-    const bool main_ok =
-        RefineObjectPose(options_.pose, camera_, obs, *pen_.last_raw, &main) &&
-        fits(main);
-    const bool other_ok = RefineObjectPose(options_.pose, camera_, obs,
-                                           *pen_.other_raw, &other) &&
-                          fits(other);
+    const bool main_ok = follow(*pen_.last_raw, &main);
+    const bool other_ok = follow(*pen_.other_raw, &other);
     if (!main_ok && !other_ok) return;  // this frame's own estimate stands
     const double d = options_.hypothesis_decay;
     double cost = d * pen_.cost + main.sse_px2;
@@ -362,13 +377,15 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   const std::optional<Pose> prior = use_prior ? pen_.last_raw : std::nullopt;
   const bool use_tip_prior =
       options_.pen_tip_prior && !prior && cam_from_tank.has_value();
-  // Acquiring: refine the other branch of an ambiguous view however much
+  // Acquiring: keep the other branch of an ambiguous view however much
   // worse its IPPE start is, so that both can be followed.
   PoseEstimatorOptions acquire = options_.pose;
   if (options_.pen_multi_hypothesis) acquire.ambiguity_ratio = 1e12;
   if (options_.pen_mode == PenMode::kJoint || obs.size() == 1) {
     ObjectPose pose;
-    if (!EstimateObjectPose(prior ? options_.pose : acquire, camera_, obs, {},
+    // Without refinement the branches alive follow this frame's IPPE pair.
+    const bool both = !prior || (pen_.other_raw && !options_.pose.refine);
+    if (!EstimateObjectPose(both ? acquire : options_.pose, camera_, obs, {},
                             &pose))
       return std::nullopt;
     if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);

@@ -287,10 +287,11 @@ void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
     }
     return;
   }
-  // A new ambiguity: this frame's estimate came with a close other branch
-  // (not one that flip rejection just turned down: that one is a glitch
-  // against a tracked pose).
-  if (e->flip_rejected || !e->pose.alternative ||
+  // A new ambiguity: the pen is being acquired (first frame, after a loss or
+  // a cut) and this frame's estimate came with a close other branch. A pen
+  // already tracked keeps its branch by continuity (the flip check).
+  const bool acquiring = !use_prior || !pen_.last_raw;
+  if (!acquiring || e->flip_rejected || !e->pose.alternative ||
       e->pose.alternative_rmse_px >
           e->pose.rmse_px + options_.ambiguity_margin_px ||
       RotationDistance(*e->pose.alternative, e->pose.cam_from_object) <= flip)

@@ -93,6 +93,10 @@ bool TrackerOptions::IsValid(std::string* error) const {
     return fail("hypothesis_decay must be in [0, 1]");
   if (!(hypothesis_resolve_ratio > 0 && hypothesis_resolve_ratio < 1))
     return fail("hypothesis_resolve_ratio must be in (0, 1)");
+  if (!(hypothesis_switch_ratio > 0 && hypothesis_switch_ratio <= 1))
+    return fail("hypothesis_switch_ratio must be in (0, 1]");
+  if (!(hypothesis_memory_s >= 0))
+    return fail("hypothesis_memory_s must be >= 0");
   if (hypothesis_min_frames < 1)
     return fail("hypothesis_min_frames must be >= 1");
   if (!(ambiguity_margin_px >= 0))

@@ -83,26 +83,28 @@ struct TrackerOptions {
   // Ambiguous means the other branch's RMS error is within this of the
   // chosen one's (pixels).
   double ambiguity_margin_px = 1.0;
-  // Two-hypothesis pen track: when the pen is acquired (or seen) from an
-  // ambiguous view, the other branch is kept alive next to the reported one
-  // and both are refined from their own previous poses on every frame's
-  // corners (newly visible faces included). Each carries a decaying sum of
-  // its squared errors (hypothesis_decay per frame); the reported pose is
-  // the branch with the lower sum, and flip rejection never holds one branch
-  // against the other while both are alive (ObjectTrack::ambiguous). The
-  // losing branch is dropped once its sum exceeds the winner's by
-  // 1 / hypothesis_resolve_ratio (after hypothesis_min_frames frames), at
-  // once when it fails to explain a frame (RMS error above max_rmse_px, e.g.
-  // a second face appeared), or when the two branches merge.
+  // Two-hypothesis pen track: when the pen is acquired (first frame, after a
+  // loss or a cut) from an ambiguous view (the other branch, refined, within
+  // ambiguity_margin_px RMS and more than flip_angle_deg away), the other
+  // branch is kept alive next to the reported one. Every frame each is
+  // refined from its own last pose on the new corners (newly visible faces
+  // included) and carries a decaying sum of its squared errors
+  // (hypothesis_decay per frame). The reported branch changes only when the
+  // other's sum falls below hypothesis_switch_ratio times its own. The loser
+  // is dropped when its sum exceeds the winner's by 1 /
+  // hypothesis_resolve_ratio (after hypothesis_min_frames frames), at once
+  // when in one frame it fails (RMS above flip_keep_rmse_px) with 1 /
+  // hypothesis_resolve_ratio times the winner's error (e.g. a second face
+  // appeared) or exceeds max_rmse_px, or when the branches merge. While both
+  // are alive the track is ObjectTrack::ambiguous and the flip check is off,
+  // so flip rejection cannot lock a wrong branch in.
   bool pen_multi_hypothesis = true;
   double hypothesis_decay = 0.9;
-  // The reported branch changes when the other's sum falls below this
-  // fraction of its own.
   double hypothesis_switch_ratio = 0.5;
+  double hypothesis_resolve_ratio = 0.1;
   // An ambiguous pen re-acquired within this long of being lost starts on
   // the branch nearer its last pose (seconds).
   double hypothesis_memory_s = 0.5;
-  double hypothesis_resolve_ratio = 0.1;
   int hypothesis_min_frames = 5;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;

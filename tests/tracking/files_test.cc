@@ -147,8 +147,9 @@ TEST(RigFileTest, DefaultRigMatchesTheDesign) {
                 1e-6);
     EXPECT_NEAR(z.dot(-f.object_from_tag.translation.normalized()), 1.0, 1e-6)
         << f.id;
-    if (std::abs(z.z()) < 0.5)
+    if (std::abs(z.z()) < 0.5) {
       EXPECT_NEAR(f.object_from_tag.R().col(1).z(), -1.0, 1e-6) << f.id;
+    }
   }
   // No face on the shaft side.
   for (const TagPlacement& f : rig->pen->faces)

@@ -10,6 +10,7 @@
 
 #include "tests/app/cli_test.h"
 #include "tests/calib/calib_scene.h"
+#include "tests/shipped_data.h"
 #include "tracking/synth/synth.h"
 
 namespace ripple::calib {
@@ -27,13 +28,7 @@ std::string Dir(const std::string& name) {
   return d;
 }
 
-tracking::Rig DefaultRig() {
-  std::string error;
-  auto rig = tracking::LoadRig(
-      std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 // Renders `n` frames of the pen in front of the camera (the board further
 // away) into `dir`; `pose(i)` gives cam_from_pen.

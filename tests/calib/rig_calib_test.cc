@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/calib/calib_scene.h"
+#include "tests/shipped_data.h"
 
 namespace ripple::calib {
 namespace {
@@ -25,13 +26,7 @@ using tracking::TagPlacement;
 constexpr double kDeg = M_PI / 180;
 const double kNoise = getenv("NOISE") ? atof(getenv("NOISE")) : 0.2;
 
-tracking::Rig DefaultRig() {
-  std::string error;
-  auto rig = tracking::LoadRig(
-      std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 // Views of the pen cube from random directions, >= 2 faces each.
 std::vector<std::vector<tracking::TagDetection>> PenViews(

@@ -4,16 +4,12 @@
 
 #include <random>
 
+#include "tests/shipped_data.h"
+
 namespace ripple::calib {
 namespace {
 
-tracking::Rig DefaultRig() {
-  std::string error;
-  auto rig = tracking::LoadRig(
-      std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 TEST(TipCheckTest, CheckPointsAvoidTags) {
   const auto points = BoardCheckPoints(DefaultRig());

@@ -10,7 +10,17 @@
 #include <opencv2/imgcodecs.hpp>
 #include <string>
 
+#include "render/renderer.h"
+
 namespace ripple::render::testing {
+
+// Renders `in` and reads the frame back as BGR8 (test failures on GL errors).
+inline cv::Mat RenderScene(Renderer* r, const SceneInputs& in) {
+  EXPECT_TRUE(r->Render(in));
+  cv::Mat out(r->intrinsics().height, r->intrinsics().width, CV_8UC3);
+  EXPECT_TRUE(r->ReadBgr(out.data, static_cast<int>(out.step)));
+  return out;
+}
 
 inline std::string GoldenPath(const std::string& name) {
   return std::string(RIPPLE_SOURCE_DIR) + "/tests/render/golden/" + name +

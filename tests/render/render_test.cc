@@ -22,12 +22,7 @@ using testing::View;
 
 constexpr int kW = 320, kH = 240;
 
-cv::Mat RenderScene(Renderer* r, const SceneInputs& in) {
-  EXPECT_TRUE(r->Render(in));
-  cv::Mat out(r->intrinsics().height, r->intrinsics().width, CV_8UC3);
-  EXPECT_TRUE(r->ReadBgr(out.data, static_cast<int>(out.step)));
-  return out;
-}
+using testing::RenderScene;
 
 // Issue 5's golden images: effects of issue 6 (shadow, caustics) off.
 SceneInputs CoreOnly(SceneInputs in) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/shipped_data.h"
 #include "tests/tracking/tag_scene.h"
 #include "tracking/baselines.h"
 
@@ -13,13 +14,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Rig DefaultRig() {
-  std::string error;
-  auto rig =
-      LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 Camera DistortedCamera() {
   Camera c = MakeIdealCamera(640, 480, 60.0);

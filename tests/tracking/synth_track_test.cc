@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "tests/shipped_data.h"
 #include "tracking/object_pose.h"
 #include "tracking/synth/synth.h"
 #include "tracking/tracker.h"
@@ -16,13 +17,7 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 
-Rig DefaultRig() {
-  std::string error;
-  auto rig =
-      LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 Camera DefaultCamera() {
   std::string error;

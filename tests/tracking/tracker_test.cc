@@ -6,6 +6,7 @@
 #include <cmath>
 #include <random>
 
+#include "tests/shipped_data.h"
 #include "tests/tracking/tag_scene.h"
 #include "tracking/pose_filter.h"
 #include "tracking/tag_family.h"
@@ -16,13 +17,7 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 constexpr double kFps = 30.0;
 
-Rig DefaultRig() {
-  std::string error;
-  auto rig =
-      LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
-  EXPECT_TRUE(rig) << error;
-  return *rig;
-}
+using test_data::DefaultRig;
 
 Pose BoardView(double yaw = 0.0) {
   const Eigen::Vector3d eye(0.3 * std::sin(yaw), -0.3 * std::cos(yaw), 0.35);

@@ -266,6 +266,31 @@ bool ProjectOutline(const tracking::Camera& cam,
   return true;
 }
 
+// The pen shaft's silhouette in the image: the convex hull of projected
+// rings along the cylinder (a convex body projects to a convex region).
+// False when part of it is behind the camera.
+bool ShaftOutline(const tracking::Camera& cam, const tracking::PenSpec& pen,
+                  const Pose& cam_from_pen, std::vector<Vector2d>* hull) {
+  const Vector3d tip = pen.tip_in_pen;
+  const Vector3d axis = (-tip).normalized();  // tip -> cube
+  const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+  std::vector<Vector2d> pts;
+  const int rings = 12, around = 40;
+  for (int r = 0; r <= rings; ++r) {
+    const Vector3d c = tip + axis * (pen.shaft_length_m * r / rings);
+    for (int k = 0; k < around; ++k) {
+      const double a = 2 * M_PI * k / around;
+      const Vector3d p =
+          cam_from_pen *
+          (c + pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
+      if (p.z() <= 1e-4) return false;
+      pts.push_back(cam.Project(p));
+    }
+  }
+  *hull = ConvexHull(std::move(pts));
+  return true;
+}
+
 }  // namespace
 
 cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
@@ -310,28 +335,12 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     {
       const Vector3d tip = pen.tip_in_pen;
       const Vector3d axis = (-tip).normalized();  // tip -> cube
-      const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
-      std::vector<Vector2d> pts;
-      bool ok = true;
-      const int rings = 12, around = 40;
-      for (int r = 0; r <= rings && ok; ++r) {
-        const Vector3d c = tip + axis * (pen.shaft_length_m * r / rings);
-        for (int k = 0; k < around; ++k) {
-          const double a = 2 * M_PI * k / around;
-          const Vector3d p =
-              cam_from_pen *
-              (c + pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
-          if (p.z() <= 1e-4) {
-            ok = false;
-            break;
-          }
-          pts.push_back(camera_.Project(p));
-        }
-      }
+      std::vector<Vector2d> hull;
+      const bool ok = ShaftOutline(camera_, pen, cam_from_pen, &hull);
       if (ok) {
         DrawItem it;
         it.kind = DrawItem::Kind::kPolygon;
-        it.polygon_px = ConvexHull(pts);
+        it.polygon_px = std::move(hull);
         it.polygon_bgr = kShaft * 0.9f;
         it.depth =
             (cam_from_pen * (tip + axis * 0.5 * pen.shaft_length_m)).norm();
@@ -537,22 +546,10 @@ void SceneRenderer::VisibleTags(const SceneState& scene,
   if (scene.tank_from_pen && rig_.pen) {
     cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
     const tracking::PenSpec& pen = *rig_.pen;
-    const Vector3d tip = pen.tip_in_pen, axis = (-tip).normalized();
-    const Vector3d u = axis.unitOrthogonal(), w = axis.cross(u);
+    std::vector<Vector2d> hull;
+    bool ok = ShaftOutline(camera_, pen, *cam_from_pen, &hull);
+    if (ok) blockers.push_back({std::move(hull), true, false, false});
     std::vector<Vector2d> pts;
-    bool ok = true;
-    for (int r = 0; r <= 12 && ok; ++r)
-      for (int k = 0; k < 24 && ok; ++k) {
-        const double a = 2 * M_PI * k / 24;
-        const Vector3d p =
-            *cam_from_pen *
-            (tip + axis * (pen.shaft_length_m * r / 12) +
-             pen.shaft_radius_m * (std::cos(a) * u + std::sin(a) * w));
-        ok = p.z() > 1e-4;
-        if (ok) pts.push_back(camera_.Project(p));
-      }
-    if (ok) blockers.push_back({ConvexHull(pts), true, false, false});
-    pts.clear();
     ok = true;
     const double h = 0.5 * pen.cube_edge_m;
     for (int i = 0; i < 8 && ok; ++i) {

@@ -72,12 +72,16 @@ std::optional<tracking::Pose> TankFromObstacle(
   return tag->object_from_tag * spec.parent_from_obstacle;
 }
 
-std::vector<render::Obstacle> RenderObstaclesFromRig(const tracking::Rig& rig) {
-  std::vector<render::Obstacle> out;
+std::vector<std::optional<render::Obstacle>> RenderObstaclesFromRig(
+    const tracking::Rig& rig) {
+  std::vector<std::optional<render::Obstacle>> out;
   for (const tracking::ObstacleSpec& spec : rig.obstacles) {
     const std::optional<tracking::Pose> tank_from_obstacle =
         TankFromObstacle(rig, spec);
-    if (!tank_from_obstacle) continue;
+    if (!tank_from_obstacle) {
+      out.push_back(std::nullopt);
+      continue;
+    }
     render::Obstacle r;
     if (spec.shape == tracking::ObstacleSpec::Shape::kBox) {
       r.shape = render::Obstacle::Shape::kBox;
@@ -93,6 +97,7 @@ std::vector<render::Obstacle> RenderObstaclesFromRig(const tracking::Rig& rig) {
       r.size = glm::vec3(spec.radius_m, spec.radius_m, spec.height_m);
       r.tank_from_obstacle = ToGlm(*tank_from_obstacle);
     } else {
+      out.push_back(std::nullopt);
       continue;
     }
     out.push_back(r);

@@ -26,9 +26,11 @@ std::optional<tracking::Pose> TankFromObstacle(
 bool SimObstaclesFromRig(const tracking::Rig& rig,
                          std::vector<sim::Obstacle>* out, std::string* error);
 
-// The rig's box and cylinder obstacles as drawn obstacles (voxel volumes
-// shape the water but are not drawn). Call after SimObstaclesFromRig.
-std::vector<render::Obstacle> RenderObstaclesFromRig(const tracking::Rig& rig);
+// The rig's obstacles as drawn obstacles, parallel to rig.obstacles: boxes
+// and cylinders; nullopt for voxel volumes (they shape the water but are
+// not drawn) and for a tag that is not on the board.
+std::vector<std::optional<render::Obstacle>> RenderObstaclesFromRig(
+    const tracking::Rig& rig);
 
 }  // namespace ripple::app
 

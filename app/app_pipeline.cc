@@ -57,7 +57,8 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   if (!SimObstaclesFromRig(rig, &p->sim_obstacles_, error)) return nullptr;
   for (const sim::Obstacle& o : p->sim_obstacles_)
     if (p->water_->AddObstacle(o, error) < 0) return nullptr;
-  p->render_obstacles_ = RenderObstaclesFromRig(rig);
+  p->drawn_obstacles_ = RenderObstaclesFromRig(rig);
+  p->UpdateSceneObstacles();
 
   p->context_ = render::Context::TryCreate(
       options.backend, camera.width, camera.height, error, options.window);
@@ -101,7 +102,8 @@ bool Pipeline::AddObstacleAt(double x_m, double y_m, std::string* error) {
   r.size = glm::vec3(o.radius_m, o.radius_m, o.height_m);
   r.tank_from_obstacle = glm::dmat4(1.0);
   r.tank_from_obstacle[3] = glm::dvec4(x_m, y_m, 0, 1);
-  render_obstacles_.push_back(r);
+  drawn_obstacles_.push_back(r);
+  UpdateSceneObstacles();
   return true;
 }
 
@@ -113,10 +115,25 @@ bool Pipeline::RemoveLastObstacle() {
     if (sim_obstacles_[id].tank_from_obstacle == parked) continue;
     sim_obstacles_[id].tank_from_obstacle = parked;
     water_->SetObstaclePose(id, parked);
-    if (!render_obstacles_.empty()) render_obstacles_.pop_back();
+    drawn_obstacles_[id].reset();
+    UpdateSceneObstacles();
     return true;
   }
   return false;
+}
+
+int Pipeline::num_obstacles() const {
+  const sim::RigidTransform parked = ToSim(kParked);
+  int n = 0;
+  for (const sim::Obstacle& o : sim_obstacles_)
+    n += o.tank_from_obstacle != parked;
+  return n;
+}
+
+void Pipeline::UpdateSceneObstacles() {
+  scene_.obstacles.clear();
+  for (const auto& o : drawn_obstacles_)
+    if (o) scene_.obstacles.push_back(*o);
 }
 
 FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
@@ -161,7 +178,6 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     if (scene_.pen_visible)
       scene_.tank_from_pen =
           ToGlm(tr.tank.cam_from_object->Inverse() * *tr.pen.cam_from_object);
-    scene_.obstacles = render_obstacles_;
     scene_.effects = options_.effects;
     renderer_->Render(scene_);
     report.passes = renderer_->timings();

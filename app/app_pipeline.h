@@ -6,6 +6,7 @@
 
 #include <memory>
 #include <opencv2/core.hpp>
+#include <optional>
 #include <string>
 
 #include "app/app_timing.h"
@@ -67,9 +68,8 @@ class Pipeline {
   bool AddObstacleAt(double x_m, double y_m, std::string* error);
   // Removes the most recently added obstacle (rig obstacles included).
   bool RemoveLastObstacle();
-  int num_obstacles() const {
-    return static_cast<int>(render_obstacles_.size());
-  }
+  // Obstacles in the water now (removed ones excluded).
+  int num_obstacles() const;
 
  private:
   Pipeline() = default;
@@ -83,7 +83,11 @@ class Pipeline {
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
   std::vector<sim::Obstacle> sim_obstacles_;
-  std::vector<render::Obstacle> render_obstacles_;
+  // Parallel to sim_obstacles_: how each is drawn (nullopt: not drawn, as
+  // voxel volumes and removed obstacles).
+  std::vector<std::optional<render::Obstacle>> drawn_obstacles_;
+  // Rebuilds scene_.obstacles from drawn_obstacles_ (on add and remove only).
+  void UpdateSceneObstacles();
   render::SceneInputs scene_;
   cv::Mat composite_;
   double last_time_s_ = 0;

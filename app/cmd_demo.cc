@@ -100,7 +100,9 @@ int RunDemo(const DemoArgs& args) {
     video.Write(pipeline->composite());
     for (const tracking::PoseRow& row :
          pipeline->tracker().ToPoseRows(r.tracking))
-      poses.Write(row);
+      if (!poses.Write(row))
+        return Fail(kExitRuntime, "cannot write '" + args.out +
+                                      "/demo_poses.csv' (video finalized)");
     if (f.index == snapshot &&
         !cv::imwrite(args.out + "/demo_frame.png", pipeline->composite()))
       return Fail(kExitRuntime,

@@ -83,9 +83,13 @@ int RunReplay(ReplayArgs& args) {
     table.Add(r.times);
     if (r.tracking.tank.has_pose()) ++tank_tracked;
     if (video.is_open()) video.Write(pipeline->composite());
-    for (const tracking::PoseRow& row :
-         pipeline->tracker().ToPoseRows(r.tracking))
-      if (!args.poses.empty()) poses.Write(row);
+    if (!args.poses.empty()) {
+      for (const tracking::PoseRow& row :
+           pipeline->tracker().ToPoseRows(r.tracking))
+        if (!poses.Write(row))
+          return Fail(kExitRuntime,
+                      "cannot write '" + args.poses + "' (video finalized)");
+    }
     if (args.pipeline.options.window) {
       pipeline->renderer().Present();
       if (pipeline->context().ShouldClose()) break;

@@ -80,10 +80,5 @@ bool StageTable::AppendCsv(const std::string& path, const std::string& label,
   return ok;
 }
 
-double StageTable::MedianTotal() const {
-  std::vector<double> v;
-  for (const StageTimes& r : rows_) v.push_back(r.total);
-  return Percentile(v, 50);
-}
 
 }  // namespace ripple::app

@@ -32,7 +32,6 @@ class StageTable {
   // Appends rows "label,stat,cap,...,total,frames" to a CSV file.
   bool AppendCsv(const std::string& path, const std::string& label, bool header,
                  std::string* error) const;
-  double MedianTotal() const;
 
  private:
   std::vector<StageTimes> rows_;

@@ -80,5 +80,4 @@ bool StageTable::AppendCsv(const std::string& path, const std::string& label,
   return ok;
 }
 
-
 }  // namespace ripple::app

@@ -36,6 +36,8 @@ bool TagDetectorOptions::IsValid(std::string* error) const {
   if (threads < 1 || threads > 64) return fail("threads must be in [1, 64]");
   if (max_hamming < 0 || max_hamming > 2)
     return fail("max_hamming must be 0, 1 or 2");
+  if (min_white_black_diff < 0 || min_white_black_diff > 255)
+    return fail("min_white_black_diff must be in [0, 255]");
   if (!(min_decision_margin >= 0.0))
     return fail("min_decision_margin must be >= 0");
   if (!(std::abs(pixel_offset_px) <= 2.0 && std::abs(edge_outward_px) <= 2.0))
@@ -236,6 +238,7 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
   td->nthreads = options.threads;
   td->refine_edges = options.refine_edges;
   td->decode_sharpening = options.decode_sharpening;
+  td->qtp.min_white_black_diff = options.min_white_black_diff;
   td->debug = false;
 }
 

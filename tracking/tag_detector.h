@@ -43,6 +43,14 @@ struct TagDetectorOptions {
   int threads = 1;          // libapriltag worker threads
   bool refine_edges = true;
   double decode_sharpening = 0.25;
+  // libapriltag marks a 4x4-pixel tile (of the decimated image) as
+  // unknown, and skips it, when its grey range is below this (DN). Its own
+  // default, 5, lets sensor noise (2-4 DN read noise plus shot noise)
+  // through: flat paper then breaks into thousands of tiny segments that
+  // are clustered and fitted as quad candidates, which took 80% of the
+  // detector's time on the benchmark preset (docs/tracking.md, "Detector
+  // time"). Printed tags have 100+ DN between black and white.
+  int min_white_black_diff = 25;
   int max_hamming = 1;                // reject detections with more bit errors
   double min_decision_margin = 15.0;  // reject weaker decodes
   // Bias correction (see the file comment). Pixels.

@@ -1,0 +1,156 @@
+// Where the tracker's time goes, on frames of synth's benchmark preset at
+// 640x480 (one thread): full-frame detection with and without Ripple's edge
+// fit, bare libapriltag, and the whole tracker with and without region
+// search. `ripple bench tracking` measures time against error over 500+
+// frames; this benchmark splits the time into its parts.
+//
+//   build/tests/tracking/tracking_tracking_benchmark
+//   --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+#include <apriltag.h>
+#include <benchmark/benchmark.h>
+#include <common/image_u8.h>
+#include <common/timeprofile.h>
+#include <common/zarray.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <opencv2/imgproc.hpp>
+
+#include "tracking/synth/synth.h"
+#include "tracking/tag_family.h"
+#include "tracking/tracker.h"
+
+namespace ripple::tracking {
+namespace {
+
+struct Frames {
+  Camera camera;
+  Rig rig;
+  std::vector<cv::Mat> gray;
+  std::vector<double> time_s;
+};
+
+// 100 frames: two 50-frame segments (smooth motion, one cut).
+const Frames& BenchmarkFrames() {
+  static const Frames* frames = [] {
+    auto* f = new Frames;
+    std::string error;
+    auto camera = LoadCamera(
+        std::string(RIPPLE_SOURCE_DIR) + "/data/camera/default_640x480.yml",
+        &error);
+    if (!camera) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      std::abort();
+    }
+    f->camera = *camera;
+    auto rig = LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml",
+                       &error);
+    if (!rig) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      std::abort();
+    }
+    f->rig = *rig;
+    synth::SequenceOptions seq;
+    seq.frames = 100;
+    std::vector<synth::FrameSpec> specs;
+    if (!synth::MakeSequence(f->camera, f->rig, seq, &specs, &error)) {
+      std::fprintf(stderr, "%s\n", error.c_str());
+      std::abort();
+    }
+    synth::SceneRenderer renderer(f->camera, f->rig);
+    for (const synth::FrameSpec& spec : specs) {
+      const synth::RenderedFrame frame =
+          renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
+      cv::Mat gray;
+      cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
+      f->gray.push_back(gray);
+      f->time_s.push_back(spec.time_s);
+    }
+    return f;
+  }();
+  return *frames;
+}
+
+void BM_DetectFullFrame(benchmark::State& state) {
+  const Frames& f = BenchmarkFrames();
+  TagDetectorOptions options;
+  options.family = f.rig.family;
+  options.edge_fit = state.range(0) != 0;
+  TagDetector detector(options);
+  size_t i = 0, tags = 0;
+  for (auto _ : state) {
+    tags += detector.Detect(f.gray[i % f.gray.size()]).size();
+    ++i;
+  }
+  state.counters["tags/frame"] = double(tags) / i;
+}
+BENCHMARK(BM_DetectFullFrame)
+    ->ArgName("edge_fit")
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+
+// libapriltag alone on the whole frame, decimate 2, refine_edges on, with
+// min_white_black_diff = range(0) and quad_sigma = range(1) / 10.
+void BM_LibapriltagFullFrame(benchmark::State& state) {
+  const Frames& f = BenchmarkFrames();
+  auto family = TagFamily::Create(f.rig.family);
+  apriltag_detector_t* td = apriltag_detector_create();
+  apriltag_detector_add_family_bits(td, family->get(), 1);
+  td->quad_decimate = 2.0f;
+  td->nthreads = 1;
+  td->qtp.min_white_black_diff = state.range(0);
+  td->quad_sigma = state.range(1) / 10.0f;
+  size_t i = 0;
+  double segments = 0, quads = 0, tags = 0;
+  for (auto _ : state) {
+    const cv::Mat& g = f.gray[i++ % f.gray.size()];
+    image_u8_t im{g.cols, g.rows, static_cast<int32_t>(g.step[0]),
+                  const_cast<uint8_t*>(g.ptr<uint8_t>())};
+    zarray_t* found = apriltag_detector_detect(td, &im);
+    tags += zarray_size(found);
+    segments += td->nsegments;
+    quads += td->nquads;
+    apriltag_detections_destroy(found);
+  }
+  if (std::getenv("RIPPLE_APRILTAG_PROFILE")) timeprofile_display(td->tp);
+  state.counters["segments"] = segments / i;
+  state.counters["quads"] = quads / i;
+  state.counters["tags"] = tags / i;
+  apriltag_detector_destroy(td);
+}
+BENCHMARK(BM_LibapriltagFullFrame)
+    ->ArgNames({"min_wb_diff", "sigma_x10"})
+    ->Args({5, 0})
+    ->Args({20, 0})
+    ->Args({40, 0})
+    ->Args({5, 8})
+    ->Args({20, 8})
+    ->Unit(benchmark::kMillisecond);
+
+// The whole tracker over the sequence (detection, pose, temporal logic).
+void BM_Track(benchmark::State& state) {
+  const Frames& f = BenchmarkFrames();
+  TrackerOptions options;
+  options.roi_search = state.range(0) != 0;
+  Tracker tracker(f.camera, f.rig, options);
+  size_t i = 0;
+  double detect_ms = 0;
+  int full = 0;
+  for (auto _ : state) {
+    const size_t k = i % f.gray.size();
+    if (k == 0) tracker.Reset();
+    const FrameResult r =
+        tracker.Track(f.gray[k], f.time_s[k] + (i / f.gray.size()) * 10.0);
+    detect_ms += r.timings.detect_ms;
+    full += r.timings.full_search;
+    ++i;
+  }
+  state.counters["detect_ms"] = detect_ms / i;
+  state.counters["full_share"] = double(full) / i;
+}
+BENCHMARK(BM_Track)->ArgName("roi")->Arg(0)->Arg(1)->Unit(
+    benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace ripple::tracking

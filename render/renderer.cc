@@ -11,6 +11,10 @@
 #include <optional>
 #include <vector>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "render/caustics.h"
 #include "render/gl.h"
 #include "render/gl_objects.h"
@@ -149,6 +153,59 @@ void AllocTexture(Texture* t, GLint internal_format, int w, int h,
   glTexImage2D(GL_TEXTURE_2D, 0, internal_format, w, h, 0, format, type, data);
 }
 
+// BGR8 -> RGBA8 (alpha 255). RGBA is the layout llvmpipe gives a GL_RGBA8
+// texture, so the upload is a plain copy.
+static_assert(__BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__,
+              "BgrToRgbaRow assumes a little-endian machine");
+inline std::uint32_t RgbaFromBgr(std::uint32_t bgr) {
+  return ((bgr & 0xffu) << 16) | (bgr & 0xff00u) | ((bgr >> 16) & 0xffu) |
+         0xff000000u;
+}
+void BgrToRgbaRowScalar(const std::uint8_t* bgr, int n, std::uint32_t* out) {
+  int i = 0;
+  // Four pixels from three unaligned 32-bit words.
+  for (; i + 4 <= n; i += 4, bgr += 12) {
+    std::uint32_t a, b, c;
+    std::memcpy(&a, bgr, 4);
+    std::memcpy(&b, bgr + 4, 4);
+    std::memcpy(&c, bgr + 8, 4);
+    out[i] = RgbaFromBgr(a);
+    out[i + 1] = RgbaFromBgr((a >> 24) | (b << 8));
+    out[i + 2] = RgbaFromBgr((b >> 16) | (c << 16));
+    out[i + 3] = RgbaFromBgr(c >> 8);
+  }
+  for (; i < n; ++i, bgr += 3) {
+    out[i] = bgr[2] | (bgr[1] << 8) | (bgr[0] << 16) | 0xff000000u;
+  }
+}
+
+#if defined(__x86_64__)
+// Four pixels per shuffle: 16 loaded bytes hold pixels 0-3 (and part of 4).
+__attribute__((target("ssse3"))) void BgrToRgbaRowSsse3(const std::uint8_t* bgr,
+                                                        int n,
+                                                        std::uint32_t* out) {
+  const __m128i shuffle =
+      _mm_setr_epi8(2, 1, 0, -1, 5, 4, 3, -1, 8, 7, 6, -1, 11, 10, 9, -1);
+  const __m128i alpha = _mm_set1_epi32(static_cast<int>(0xff000000u));
+  int i = 0;
+  // 16-byte loads: stop while 16 bytes remain readable (16 / 3 > 5 pixels).
+  for (; i + 6 <= n; i += 4, bgr += 12) {
+    const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(bgr));
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out + i),
+                     _mm_or_si128(_mm_shuffle_epi8(v, shuffle), alpha));
+  }
+  BgrToRgbaRowScalar(bgr, n - i, out + i);
+}
+#endif
+
+void BgrToRgbaRow(const std::uint8_t* bgr, int n, std::uint32_t* out) {
+#if defined(__x86_64__)
+  static const bool ssse3 = __builtin_cpu_supports("ssse3");
+  if (ssse3) return BgrToRgbaRowSsse3(bgr, n, out);
+#endif
+  BgrToRgbaRowScalar(bgr, n, out);
+}
+
 bool AttachColor(Framebuffer* fbo, const Texture& t) {
   fbo->Create();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo->id());
@@ -239,12 +296,15 @@ struct Renderer::Impl {
   // Output: colour + depth renderbuffers.
   Framebuffer main_fbo;
   Renderbuffer color_rb, depth_rb;
-  // Video: raw upload, optional undistorted copy, copy with obstacles, and
-  // the small reflection map.
-  Texture video_tex, undist_tex, map_tex, scene_copy_tex, reflection_tex;
-  Framebuffer video_fbo, undist_fbo, scene_copy_fbo, reflection_fbo;
+  // Video: raw upload (RGBA8, converted on the CPU: Mesa's BGR8 upload is a
+  // slow per-pixel conversion on the calling thread), the undistortion map, the
+  // copy of the background (video + obstacles) under the water for
+  // refraction, and the small reflection map.
+  Texture video_tex, map_tex, scene_copy_tex, reflection_tex;
+  Framebuffer video_fbo, scene_copy_fbo, reflection_fbo;
   int video_w = 0, video_h = 0;
   bool have_video = false;
+  std::vector<std::uint32_t> video_rgba;  // upload buffer
   Buffer pbo;
   // HUD overlay (BGRA8 -> RGBA8 texture), drawn by Present().
   Texture overlay_tex;
@@ -287,8 +347,10 @@ struct Renderer::Impl {
   bool ShadowNeedsRedraw(const SceneInputs& scene) const;
   void DrawShadow(const SceneInputs& scene);
   void UpdateCaustics(const SceneInputs& scene);
-  GLuint DrawVideoBackground(bool reflection);
+  void DrawVideoBackground(bool reflection);
   void DrawMain(const SceneInputs& scene);
+  glm::ivec4 TankRect(const SceneInputs& scene,
+                      const glm::dmat4& clip_from_tank) const;
   glm::ivec4 WaterRect(const SceneInputs& scene,
                        const glm::dmat4& clip_from_tank) const;
   void DrawSolids(const SceneInputs& scene, const Program& p,
@@ -486,9 +548,6 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
                GL_LINEAR, GL_MIRRORED_REPEAT);
   ok = ok && AttachColor(&reflection_fbo, reflection_tex);
   if (k.HasDistortion()) {
-    AllocTexture(&undist_tex, GL_RGBA8, w, h, GL_RGBA, GL_UNSIGNED_BYTE,
-                 GL_LINEAR, GL_CLAMP_TO_EDGE);
-    ok = ok && AttachColor(&undist_fbo, undist_tex);
     // For each ideal output pixel, the texture coordinate of the distorted
     // source pixel: a forward evaluation of OpenCV's model, no iteration.
     std::vector<glm::vec2> map(static_cast<size_t>(w) * h);
@@ -503,8 +562,6 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
     AllocTexture(&map_tex, GL_RG32F, w, h, GL_RG, GL_FLOAT, GL_NEAREST,
                  GL_CLAMP_TO_EDGE, map.data());
   } else {
-    undist_tex.Reset();
-    undist_fbo.Reset();
     map_tex.Reset();
   }
   glBindBuffer(GL_PIXEL_PACK_BUFFER, pbo.id());
@@ -519,20 +576,24 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
 void Renderer::Impl::UploadVideo(const VideoFrame& f) {
   if (f.bgr == nullptr || f.width <= 0 || f.height <= 0) return;
   if (f.width != video_w || f.height != video_h) {
-    AllocTexture(&video_tex, GL_RGBA8, f.width, f.height, GL_BGR,
+    AllocTexture(&video_tex, GL_RGBA8, f.width, f.height, GL_RGBA,
                  GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
     AttachColor(&video_fbo, video_tex);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     video_w = f.width;
     video_h = f.height;
   }
-  glBindTexture(GL_TEXTURE_2D, video_tex.id());
   const int stride = f.stride_bytes > 0 ? f.stride_bytes : f.width * 3;
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, stride % 3 == 0 ? stride / 3 : 0);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, f.width, f.height, GL_BGR,
-                  GL_UNSIGNED_BYTE, f.bgr);
+  video_rgba.resize(static_cast<size_t>(f.width) * f.height);
+  for (int y = 0; y < f.height; ++y) {
+    BgrToRgbaRow(f.bgr + static_cast<size_t>(y) * stride, f.width,
+                 video_rgba.data() + static_cast<size_t>(y) * f.width);
+  }
+  glBindTexture(GL_TEXTURE_2D, video_tex.id());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
   glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, f.width, f.height, GL_RGBA,
+                  GL_UNSIGNED_BYTE, video_rgba.data());
   have_video = true;
 }
 
@@ -818,74 +879,94 @@ void Renderer::Impl::SetCommon(const Program& p, const SceneInputs& scene,
   SetVec3(p, "u_scatter", options.deep_water_color);
 }
 
+namespace {
+
+// Window rectangle (x, y, w, h) of a centred box in the tank frame (x, y
+// sizes, z from z0 to z1), grown by `pad` pixels and clipped to the window;
+// the whole window when a corner is behind the camera.
+glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
+                   double size_y, double z0, double z1, int pad, int width,
+                   int height) {
+  glm::dvec2 lo(1e9), hi(-1e9);
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 p((i & 1 ? 0.5 : -0.5) * size_x,
+                       (i & 2 ? 0.5 : -0.5) * size_y, i & 4 ? z1 : z0, 1.0);
+    const glm::dvec4 c = clip_from_tank * p;
+    if (c.w <= 1e-6) return {0, 0, width, height};
+    const glm::dvec2 win = WindowFromClip(c, width, height);
+    lo = glm::min(lo, win);
+    hi = glm::max(hi, win);
+  }
+  const int x0 = std::clamp(static_cast<int>(std::floor(lo.x)) - pad, 0, width);
+  const int y0 =
+      std::clamp(static_cast<int>(std::floor(lo.y)) - pad, 0, height);
+  const int x1 = std::clamp(static_cast<int>(std::ceil(hi.x)) + pad, 0, width);
+  const int y1 = std::clamp(static_cast<int>(std::ceil(hi.y)) + pad, 0, height);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+}  // namespace
+
 // Window rectangle (x, y, w, h) holding the water whatever its waves: the
 // tank interior between 1 cm under and over the rest level.
 glm::ivec4 Renderer::Impl::WaterRect(const SceneInputs& scene,
                                      const glm::dmat4& clip_from_tank) const {
   const TankGeometry& t = scene.tank;
-  glm::dvec2 lo(1e9), hi(-1e9);
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec4 p((i & 1 ? 0.5 : -0.5) * t.size_x,
-                       (i & 2 ? 0.5 : -0.5) * t.size_y,
-                       t.water_level + (i & 4 ? 0.01 : -0.01), 1.0);
-    const glm::dvec4 c = clip_from_tank * p;
-    if (c.w <= 1e-6) return {0, 0, k.width, k.height};
-    const glm::dvec2 win = WindowFromClip(c, k.width, k.height);
-    lo = glm::min(lo, win);
-    hi = glm::max(hi, win);
-  }
-  const int x0 = std::clamp(static_cast<int>(std::floor(lo.x)) - 1, 0, k.width);
-  const int y0 =
-      std::clamp(static_cast<int>(std::floor(lo.y)) - 1, 0, k.height);
-  const int x1 = std::clamp(static_cast<int>(std::ceil(hi.x)) + 1, 0, k.width);
-  const int y1 = std::clamp(static_cast<int>(std::ceil(hi.y)) + 1, 0, k.height);
-  return {x0, y0, x1 - x0, y1 - y0};
+  return BoxRect(clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
+                 t.water_level + 0.01, 1, k.width, k.height);
 }
 
-// Background: the (undistorted) video, copied into the output FBO (and the
-// quarter-size reflection map when `reflection`). Returns the texture that
-// holds the background for refraction lookups, 0 without any video yet.
-GLuint Renderer::Impl::DrawVideoBackground(bool reflection) {
+// Window rectangle holding the whole tank box (floor to the wall tops, or
+// to the water's rest level + 1 cm if higher), padded for linear filtering:
+// everything the water's refraction can look up.
+glm::ivec4 Renderer::Impl::TankRect(const SceneInputs& scene,
+                                    const glm::dmat4& clip_from_tank) const {
+  const TankGeometry& t = scene.tank;
+  return BoxRect(clip_from_tank, t.size_x, t.size_y, 0.0,
+                 std::max<double>(t.wall_height, t.water_level + 0.01), 2,
+                 k.width, k.height);
+}
+
+// Background: the (undistorted) video drawn straight into the output FBO,
+// and the quarter-size reflection map taken from it when `reflection`.
+// Nothing is drawn before any video has arrived.
+void Renderer::Impl::DrawVideoBackground(bool reflection) {
+  if (!have_video) return;
   const int w = k.width, h = k.height;
-  GLuint scene_fbo = 0, scene_tex = 0;
-  if (have_video) {
-    scene_fbo = video_fbo.id();
-    scene_tex = video_tex.id();
-    if (k.HasDistortion()) {
-      glBindFramebuffer(GL_FRAMEBUFFER, undist_fbo.id());
-      glViewport(0, 0, w, h);
-      glDisable(GL_DEPTH_TEST);
-      glDisable(GL_BLEND);
-      glUseProgram(undistort_program.id());
-      SetInt(undistort_program, "u_video", kUnitVideo);
-      SetInt(undistort_program, "u_map", kUnitMap);
-      glActiveTexture(GL_TEXTURE0 + kUnitVideo);
-      glBindTexture(GL_TEXTURE_2D, video_tex.id());
-      glActiveTexture(GL_TEXTURE0 + kUnitMap);
-      glBindTexture(GL_TEXTURE_2D, map_tex.id());
-      glBindVertexArray(empty_vao.id());
-      glDrawArrays(GL_TRIANGLES, 0, 3);
-      scene_fbo = undist_fbo.id();
-      scene_tex = undist_tex.id();
-    }
-    glBindFramebuffer(GL_READ_FRAMEBUFFER, scene_fbo);
+  if (k.HasDistortion()) {
+    glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
+    glViewport(0, 0, w, h);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_STENCIL_TEST);
+    glDisable(GL_BLEND);
+    glUseProgram(undistort_program.id());
+    SetInt(undistort_program, "u_video", kUnitVideo);
+    SetInt(undistort_program, "u_map", kUnitMap);
+    glActiveTexture(GL_TEXTURE0 + kUnitVideo);
+    glBindTexture(GL_TEXTURE_2D, video_tex.id());
+    glActiveTexture(GL_TEXTURE0 + kUnitMap);
+    glBindTexture(GL_TEXTURE_2D, map_tex.id());
+    glBindVertexArray(empty_vao.id());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+  } else {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, video_fbo.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, main_fbo.id());
     glBlitFramebuffer(0, 0, video_w, video_h, 0, 0, w, h, GL_COLOR_BUFFER_BIT,
                       GL_LINEAR);
-    if (reflection) {
-      glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reflection_fbo.id());
-      glBlitFramebuffer(0, 0, video_w, video_h, 0, 0, std::max(1, w / 4),
-                        std::max(1, h / 4), GL_COLOR_BUFFER_BIT, GL_LINEAR);
-    }
   }
-  return scene_tex;
+  if (reflection) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, main_fbo.id());
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reflection_fbo.id());
+    glBlitFramebuffer(0, 0, w, h, 0, 0, std::max(1, w / 4), std::max(1, h / 4),
+                      GL_COLOR_BUFFER_BIT, GL_LINEAR);
+  }
 }
 
 void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   const int w = k.width, h = k.height;
   const glm::dmat4 clip_from_tank = ClipFromCam(k) * scene.cam_from_tank;
 
-  GLuint scene_tex = DrawVideoBackground(scene.effects.reflection);
+  DrawVideoBackground(scene.effects.reflection);
   glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
   glViewport(0, 0, w, h);
   glClearDepth(1.0);
@@ -896,7 +977,6 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   } else {
     glClearColor(0.f, 0.f, 0.f, 1.f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
-    scene_tex = scene_copy_tex.id();
   }
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -914,19 +994,25 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   glActiveTexture(GL_TEXTURE0 + kUnitReceiver);
   glBindTexture(GL_TEXTURE_2D, receiver_tex.id());
 
-  // Virtual obstacles, then a copy of video + obstacles for refraction.
+  // Virtual obstacles, then a copy of video + obstacles for refraction. The
+  // water only looks up points inside the tank, so only the tank's window
+  // rectangle is copied.
   if (!scene.obstacles.empty()) {
     SetCommon(solid_program, scene, clip_from_tank);
     SetVec3(solid_program, "u_albedo", options.obstacle_albedo);
     DrawSolids(scene, solid_program, clip_from_tank, true, false, false);
+  }
+  const glm::ivec4 tank_rect = TankRect(scene, clip_from_tank);
+  if (tank_rect.z > 0 && tank_rect.w > 0) {
+    const int x1 = tank_rect.x + tank_rect.z, y1 = tank_rect.y + tank_rect.w;
     glBindFramebuffer(GL_READ_FRAMEBUFFER, main_fbo.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_copy_fbo.id());
-    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(tank_rect.x, tank_rect.y, x1, y1, tank_rect.x,
+                      tank_rect.y, x1, y1, GL_COLOR_BUFFER_BIT, GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, main_fbo.id());
-    scene_tex = scene_copy_tex.id();
   }
   glActiveTexture(GL_TEXTURE0 + kUnitScene);
-  glBindTexture(GL_TEXTURE_2D, scene_tex);
+  glBindTexture(GL_TEXTURE_2D, scene_copy_tex.id());
 
   // The real pen hides the water where it is in front of it.
   if (scene.pen_visible && scene.effects.pen_occludes) {

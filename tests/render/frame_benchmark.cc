@@ -3,7 +3,10 @@
 // iteration renders and waits for the GPU (glFinish); readback is measured
 // separately. LP_NUM_THREADS=2 reproduces the "2 cores".
 //
-//   build-render/tests/render/render_frame_benchmark
+//   build/tests/render/render_frame_benchmark
+//
+// BM_MainPassWithout splits mode 0 into its parts; for comparable numbers
+// interleave the runs: --benchmark_enable_random_interleaving=true.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -105,6 +108,50 @@ BENCHMARK(BM_Frame)
     ->Args({kFullIdle, int(Backend::kEgl)})
     ->Args({kMainOnly, int(Backend::kOsmesa)})
     ->Args({kFullChanging, int(Backend::kOsmesa)})
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+// What each part of the main pass (mode 0, EGL) costs: the same frame with
+// one part taken away.
+enum Without : int {
+  kNothing = 0,
+  kReflection,
+  kRefraction,
+  kWalls,
+  kPenOcclusion,
+  kObstacles,
+  kVideoUpload,   // the video is uploaded once, not every frame
+  kWaterShading,  // flat-colour water (mesh and stencil still drawn)
+};
+void BM_MainPassWithout(benchmark::State& state) {
+  const Without without = static_cast<Without>(state.range(0));
+  auto f = Make(state, Backend::kEgl);
+  if (!f) return;
+  SceneInputs& in = f->scene.inputs;
+  in.effects.shadows = in.effects.caustics = false;
+  in.effects.reflection = without != kReflection;
+  in.effects.refraction = without != kRefraction;
+  in.effects.walls = without != kWalls;
+  in.effects.pen_occludes = without != kPenOcclusion;
+  in.effects.flat_water = without == kWaterShading;
+  if (without == kObstacles) in.obstacles.clear();
+  f->renderer->Render(in);
+  f->renderer->Finish();
+  if (without == kVideoUpload) in.video.bgr = nullptr;
+  double upload_ms = 0, frames = 0;
+  for (auto _ : state) {
+    in.water.change_counter++;
+    f->renderer->Render(in);
+    f->renderer->Finish();
+    upload_ms += f->renderer->timings().upload_ms;
+    ++frames;
+  }
+  state.counters["upload_ms"] = upload_ms / frames;
+}
+BENCHMARK(BM_MainPassWithout)
+    ->ArgNames({"without"})
+    ->DenseRange(kNothing, kWaterShading)
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

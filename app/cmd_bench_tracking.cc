@@ -71,15 +71,16 @@ struct FrameErrors {
 };
 
 std::string SettingName(const tracking::TrackerOptions& o) {
-  char buf[96];
+  char buf[112];
   std::snprintf(
-      buf, sizeof(buf), "d%g %s%s%s %s", o.detector.quad_decimate,
+      buf, sizeof(buf), "d%g %s%s%s %s%s", o.detector.quad_decimate,
       o.pen_mode == tracking::PenMode::kJoint ? "joint" : "best-face",
       o.pen_mode == tracking::PenMode::kBestFace &&
               o.face_selection == tracking::FaceSelection::kMostFrontal
           ? "(frontal)"
           : "",
-      o.pose.refine ? " ceres" : " ippe", o.roi_search ? "roi" : "full");
+      o.pose.refine ? " ceres" : " ippe", o.roi_search ? "roi" : "full",
+      o.pen_dense.enabled ? " dense" : "");
   return buf;
 }
 
@@ -119,6 +120,9 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
     o = defaults;
     o.roi_search = !defaults.roi_search;
     list.push_back(o);
+    o = defaults;
+    o.pen_dense.enabled = !defaults.pen_dense.enabled;
+    list.push_back(o);
   }
   if (sweep != "default") {
     tracking::TrackerOptions frontal = defaults;
@@ -136,6 +140,7 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
         o.pen_mode == defaults.pen_mode &&
         o.pose.refine == defaults.pose.refine &&
         o.roi_search == defaults.roi_search &&
+        o.pen_dense.enabled == defaults.pen_dense.enabled &&
         o.face_selection == defaults.face_selection)
       s->name += " [default]";
     settings.push_back(std::move(s));

@@ -99,7 +99,7 @@ struct TrackArgs {
   int threads = 1;
   std::string pen_mode = "joint";
   std::string face_selection = "uncertainty";
-  bool no_refine = false, no_roi = false, smooth = false;
+  bool no_refine = false, no_roi = false, no_dense = false, smooth = false;
   double tank_hold_s = tracking::TrackerOptions{}.tank_hold_s;
   double pen_hold_s = tracking::TrackerOptions{}.pen_hold_s;
 };
@@ -115,6 +115,7 @@ int RunTrack(const TrackArgs& args) {
   options.pen_mode = *tracking::ParsePenMode(args.pen_mode);
   options.face_selection = *tracking::ParseFaceSelection(args.face_selection);
   options.pose.refine = !args.no_refine;
+  options.pen_dense.enabled = !args.no_dense;
   options.roi_search = !args.no_roi;
   options.smoothing.enabled = args.smooth;
   options.tank_hold_s = args.tank_hold_s;
@@ -218,6 +219,8 @@ CommandAction SetupTrack(CLI::App* sub) {
       ->check(CLI::IsMember({"uncertainty", "frontal"}));
   sub->add_flag("--no-refine", args->no_refine, "Skip the Ceres refinement");
   sub->add_flag("--no-roi", args->no_roi, "Search the full frame every time");
+  sub->add_flag("--no-dense", args->no_dense,
+                "Skip the pen's dense photometric refinement");
   sub->add_flag("--smooth", args->smooth,
                 "One Euro smoothing (at most one frame of lag)");
   sub->add_option("--hold", args->tank_hold_s,

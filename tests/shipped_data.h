@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "tracking/camera.h"
 #include "tracking/rig.h"
 
 namespace ripple::test_data {
@@ -18,6 +19,17 @@ inline tracking::Rig DefaultRig() {
       std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
   EXPECT_TRUE(rig) << error;
   return rig.value_or(tracking::Rig{});
+}
+
+// data/camera/default_640x480.yml; a test failure (and an invalid camera)
+// if it won't load.
+inline tracking::Camera DefaultCamera() {
+  std::string error;
+  auto camera = tracking::LoadCamera(
+      std::string(RIPPLE_SOURCE_DIR) + "/data/camera/default_640x480.yml",
+      &error);
+  EXPECT_TRUE(camera) << error;
+  return camera.value_or(tracking::Camera{});
 }
 
 }  // namespace ripple::test_data

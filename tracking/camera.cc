@@ -7,6 +7,31 @@
 
 namespace ripple::tracking {
 
+Eigen::Vector2d Camera::ProjectWithJacobian(
+    const Eigen::Vector3d& p, Eigen::Matrix<double, 2, 3>* j) const {
+  const double iz = 1.0 / p.z();
+  const double x = p.x() * iz, y = p.y() * iz;
+  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
+  const double num = 1 + dist[0] * r2 + dist[1] * r4 + dist[4] * r6;
+  const double den = 1 + dist[5] * r2 + dist[6] * r4 + dist[7] * r6;
+  const double radial = num / den;
+  // d radial / d r2
+  const double dnum = dist[0] + 2 * dist[1] * r2 + 3 * dist[4] * r4;
+  const double dden = dist[5] + 2 * dist[6] * r2 + 3 * dist[7] * r4;
+  const double dr = (dnum * den - num * dden) / (den * den);
+  const double p1 = dist[2], p2 = dist[3];
+  const double xd = x * radial + 2 * p1 * x * y + p2 * (r2 + 2 * x * x);
+  const double yd = y * radial + p1 * (r2 + 2 * y * y) + 2 * p2 * x * y;
+  // d (xd, yd) / d (x, y)
+  const double a = radial + 2 * x * x * dr + 2 * p1 * y + 6 * p2 * x;
+  const double b = 2 * x * y * dr + 2 * p1 * x + 2 * p2 * y;
+  const double d = radial + 2 * y * y * dr + 6 * p1 * y + 2 * p2 * x;
+  // d (x, y) / d p = [iz, 0, -x iz; 0, iz, -y iz]
+  (*j) << fx * a * iz, fx * b * iz, -fx * (a * x + b * y) * iz,  //
+      fy * b * iz, fy * d * iz, -fy * (b * x + d * y) * iz;
+  return {fx * xd + cx, fy * yd + cy};
+}
+
 bool Camera::HasDistortion() const {
   for (double d : dist) {
     if (d != 0.0) return true;

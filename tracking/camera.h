@@ -48,6 +48,11 @@ struct Camera {
                              p_in_cam.y() / p_in_cam.z());
   }
 
+  // Project() with its analytic Jacobian d pixel / d p_in_cam (2x3), for
+  // inner loops where Jets cost too much.
+  Eigen::Vector2d ProjectWithJacobian(const Eigen::Vector3d& p_in_cam,
+                                      Eigen::Matrix<double, 2, 3>* j) const;
+
   // Distorted pixel -> ideal normalised coordinates (iterative inverse of the
   // distortion, accurate to ~1e-10 for typical webcam lenses).
   Eigen::Vector2d UndistortToNormalized(const Eigen::Vector2d& pixel) const;

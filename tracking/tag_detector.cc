@@ -13,6 +13,7 @@
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "tracking/bilinear.h"
 #include "tracking/tag_family.h"
 
 namespace ripple::tracking {
@@ -81,19 +82,6 @@ std::array<Eigen::Vector2d, 4> CorrectCorners(
 
 namespace {
 
-// Bilinear sample at (x, y) in OpenCV's convention; false outside.
-inline bool Sample(const cv::Mat& g, double x, double y, double* v) {
-  const int x0 = static_cast<int>(std::floor(x));
-  const int y0 = static_cast<int>(std::floor(y));
-  if (x0 < 0 || y0 < 0 || x0 + 1 >= g.cols || y0 + 1 >= g.rows) return false;
-  const double fx = x - x0, fy = y - y0;
-  const uint8_t* r0 = g.ptr<uint8_t>(y0) + x0;
-  const uint8_t* r1 = g.ptr<uint8_t>(y0 + 1) + x0;
-  *v = (1 - fy) * ((1 - fx) * r0[0] + fx * r0[1]) +
-       fy * ((1 - fx) * r1[0] + fx * r1[1]);
-  return true;
-}
-
 struct Line {
   Eigen::Vector2d point, dir;  // dir is unit
 };
@@ -119,7 +107,7 @@ bool FitEdgeLine(const cv::Mat& g, const Eigen::Vector2d& a,
       ok = true;
       for (int j = 0; j <= kSteps && ok; ++j) {
         const Eigen::Vector2d q = p + (-hw + j * step) * n;
-        ok = Sample(g, q.x(), q.y(), &v[j]);
+        ok = SampleBilinear(g, q.x(), q.y(), &v[j]);
       }
       if (!ok) break;
       const double dark = (v[0] + v[1]) / 2,

@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
+#include "tracking/tag_family.h"
+
 namespace ripple::tracking {
 namespace {
 
@@ -85,6 +87,7 @@ bool TrackerOptions::IsValid(std::string* error) const {
   };
   if (!detector.IsValid(error)) return false;
   if (!pose.IsValid(error)) return false;
+  if (!pen_dense.IsValid(error)) return false;
   if (!smoothing.IsValid(error)) return false;
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
@@ -123,6 +126,13 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
   std::string error;
   Check(camera.IsValid(&error), "camera", error);
   Check(rig.IsValid(&error), "rig", error);
+  if (rig_.pen && options_.pen_dense.enabled) {
+    const auto family = TagFamily::Create(rig_.family);
+    Check(family != nullptr, "rig", "unknown tag family " + rig_.family);
+    pen_dense_model_ = DenseTagModel::Create(*family, rig_.pen->faces,
+                                             options_.pen_dense, &error);
+    Check(pen_dense_model_.has_value(), "rig", error);
+  }
   Reset();
 }
 
@@ -472,7 +482,7 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
 }
 
 FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
-                            double time_s) {
+                            double time_s, const cv::Mat* gray) {
   FrameResult r;
   r.frame = frame_++;
   r.time_s = time_s;
@@ -491,6 +501,14 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
     if (!pen_obs.empty())
       pen_estimate =
           EstimatePen(pen_obs, use_prior, r.tank.cam_from_object, time_s);
+    if (pen_estimate && gray && pen_dense_model_ &&
+        DenseRefinePose(*gray, camera_, *pen_dense_model_, options_.pen_dense,
+                        &pen_estimate->pose.cam_from_object)) {
+      int corners = 0;
+      const double sse = ReprojectionSse(
+          camera_, pen_obs, pen_estimate->pose.cam_from_object, &corners);
+      pen_estimate->pose.rmse_px = std::sqrt(sse / std::max(corners, 1));
+    }
     UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
                  &r.pen);
     if (r.tank.has_pose() && r.pen.has_pose()) {
@@ -507,7 +525,7 @@ FrameResult Tracker::TrackDetections(
     const std::vector<TagDetection>& detections, double time_s,
     double detect_ms) {
   const double t0 = NowMs();
-  FrameResult r = Update(detections, time_s);
+  FrameResult r = Update(detections, time_s, nullptr);
   r.timings.detect_ms = detect_ms;
   r.timings.pose_ms = NowMs() - t0;
   r.timings.total_ms = detect_ms + r.timings.pose_ms;
@@ -517,6 +535,14 @@ FrameResult Tracker::TrackDetections(
 
 FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
   const double t0 = NowMs();
+  const cv::Mat* gray = &image;
+  if (image.channels() == 3) {
+    cv::cvtColor(image, gray_, cv::COLOR_BGR2GRAY);
+    gray = &gray_;
+  } else if (image.channels() == 4) {
+    cv::cvtColor(image, gray_, cv::COLOR_BGRA2GRAY);
+    gray = &gray_;
+  }
   const bool any_pose =
       tank_.last_output.has_value() || pen_.last_output.has_value();
   bool full = !options_.roi_search || !any_pose ||
@@ -527,7 +553,7 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     if (rois.empty()) {
       full = true;
     } else {
-      detections = detector_.Detect(image, rois);
+      detections = detector_.Detect(*gray, rois);
       // Fall back to the whole frame when a tracked object went missing.
       auto found = [&](const std::vector<TagPlacement>& tags) {
         for (const TagDetection& d : detections)
@@ -543,13 +569,13 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     }
   }
   if (full) {
-    detections = detector_.Detect(image);
+    detections = detector_.Detect(*gray);
     frames_since_full_ = 0;
   } else {
     ++frames_since_full_;
   }
   const double t1 = NowMs();
-  FrameResult r = Update(detections, time_s);
+  FrameResult r = Update(detections, time_s, gray);
   const double t2 = NowMs();
   r.timings.detect_ms = t1 - t0;
   r.timings.pose_ms = t2 - t1;

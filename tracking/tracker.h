@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "tracking/camera.h"
+#include "tracking/dense_refine.h"
 #include "tracking/object_pose.h"
 #include "tracking/pose.h"
 #include "tracking/pose_csv.h"
@@ -120,6 +121,11 @@ struct TrackerOptions {
   double roi_margin_px = 12.0;       // pixels
 
   PoseFilterOptions smoothing;  // disabled by default
+
+  // Dense photometric refinement of the pen's pose over its faces' known
+  // look (tracking/dense_refine.h), after the corner-based estimate. Needs
+  // the image: Track() applies it, TrackDetections() cannot.
+  DenseRefineOptions pen_dense;
 
   bool IsValid(std::string* error) const;
 };
@@ -227,13 +233,15 @@ class Tracker {
   void UpdateObject(const std::optional<Estimate>& estimate, double time_s,
                     bool cut, double hold_s, ObjectState* state,
                     ObjectTrack* out);
-  FrameResult Update(const std::vector<TagDetection>& detections,
-                     double time_s);
+  FrameResult Update(const std::vector<TagDetection>& detections, double time_s,
+                     const cv::Mat* gray);
 
   Camera camera_;
   Rig rig_;
   TrackerOptions options_;
   TagDetector detector_;
+  std::optional<DenseTagModel> pen_dense_model_;
+  cv::Mat gray_;  // grey conversion of a colour frame
   ObjectState tank_;
   ObjectState pen_;
   int frame_ = 0;

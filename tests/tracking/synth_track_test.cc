@@ -15,18 +15,11 @@
 namespace ripple::tracking {
 namespace {
 
+using test_data::DefaultCamera;
+
 constexpr double kDeg = M_PI / 180.0;
 
 using test_data::DefaultRig;
-
-Camera DefaultCamera() {
-  std::string error;
-  auto camera = LoadCamera(
-      std::string(RIPPLE_SOURCE_DIR) + "/data/camera/default_640x480.yml",
-      &error);
-  EXPECT_TRUE(camera) << error;
-  return *camera;
-}
 
 double Median(std::vector<double> v) {
   std::sort(v.begin(), v.end());

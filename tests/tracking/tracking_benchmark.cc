@@ -149,8 +149,12 @@ void BM_Track(benchmark::State& state) {
   state.counters["detect_ms"] = detect_ms / i;
   state.counters["full_share"] = double(full) / i;
 }
-BENCHMARK(BM_Track)->ArgName("roi")->Arg(0)->Arg(1)->Unit(
-    benchmark::kMillisecond);
+BENCHMARK(BM_Track)
+    ->ArgNames({"roi", "dense"})
+    ->Args({0, 1})
+    ->Args({1, 1})
+    ->Args({1, 0})
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace ripple::tracking

@@ -1,0 +1,210 @@
+// Dense photometric pose refinement: the analytic projection Jacobian, the
+// template model, convergence towards the true pen pose on rendered frames
+// (sharp and blurred), and refusal on images that do not show the pen.
+#include "tracking/dense_refine.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <opencv2/imgproc.hpp>
+
+#include "tests/shipped_data.h"
+#include "tracking/synth/synth.h"
+
+namespace ripple::tracking {
+namespace {
+
+using test_data::DefaultCamera;
+
+constexpr double kDeg = M_PI / 180.0;
+
+TEST(ProjectWithJacobianTest, MatchesNumericDerivativeUnderStrongDistortion) {
+  Camera camera = MakeIdealCamera(640, 480, 70);
+  camera.dist = {-0.3, 0.12, 0.001, -0.002, -0.02, 0.05, -0.01, 0.003};
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0.1, -0.05, 0.5), Eigen::Vector3d(-0.2, 0.15, 0.45),
+        Eigen::Vector3d(0.0, 0.0, 0.3)}) {
+    Eigen::Matrix<double, 2, 3> j;
+    const Eigen::Vector2d uv = camera.ProjectWithJacobian(p, &j);
+    EXPECT_LT((uv - camera.Project(p)).norm(), 1e-9);
+    for (int k = 0; k < 3; ++k) {
+      const double h = 1e-7;
+      Eigen::Vector3d dp = Eigen::Vector3d::Zero();
+      dp(k) = h;
+      const Eigen::Vector2d numeric =
+          (camera.Project(Eigen::Vector3d(p + dp)) -
+           camera.Project(Eigen::Vector3d(p - dp))) /
+          (2 * h);
+      EXPECT_LT((numeric - j.col(k)).norm(), 1e-4 * (1 + numeric.norm()))
+          << "column " << k;
+    }
+  }
+}
+
+TEST(DenseTagModelTest, SamplesLieOnTheFacesAndSpanBlackToWhite) {
+  const Rig rig = test_data::DefaultRig();
+  auto family = TagFamily::Create(rig.family);
+  ASSERT_TRUE(family);
+  std::string error;
+  const auto model = DenseTagModel::Create(*family, rig.pen->faces,
+                                           DenseRefineOptions{}, &error);
+  ASSERT_TRUE(model) << error;
+  ASSERT_EQ(model->faces().size(), rig.pen->faces.size());
+  for (size_t f = 0; f < rig.pen->faces.size(); ++f) {
+    const TagPlacement& tag = rig.pen->faces[f];
+    const DenseTagModel::Face& face = model->faces()[f];
+    EXPECT_EQ(face.id, tag.id);
+    EXPECT_GT(face.samples.size(), 300u);
+    double lo = 1, hi = 0;
+    for (const DenseTagModel::Sample& s : face.samples) {
+      // On the face's plane, within the bitmap (one cell of margin).
+      const Eigen::Vector3d in_tag = tag.object_from_tag.Inverse() * s.point;
+      EXPECT_NEAR(in_tag.z(), 0.0, 1e-12);
+      EXPECT_LE(std::abs(in_tag.x()), 0.5 * tag.edge_m * 10 / 8 + 1e-9);
+      EXPECT_LE(std::abs(in_tag.y()), 0.5 * tag.edge_m * 10 / 8 + 1e-9);
+      lo = std::min<double>(lo, s.value[0]);
+      hi = std::max<double>(hi, s.value[0]);
+    }
+    EXPECT_LT(lo, 0.1);
+    EXPECT_GT(hi, 0.9);
+  }
+  // An id outside the family is refused with a message.
+  std::vector<TagPlacement> bad = rig.pen->faces;
+  bad[0].id = 100000;
+  EXPECT_FALSE(
+      DenseTagModel::Create(*family, bad, DenseRefineOptions{}, &error));
+  EXPECT_NE(error.find("100000"), std::string::npos);
+}
+
+struct Errors {
+  double rot_deg, trans_mm;
+};
+
+Errors PoseErrors(const Pose& a, const Pose& b) {
+  return {RotationDistance(a, b) / kDeg,
+          (a.translation - b.translation).norm() * 1e3};
+}
+
+// Renders frames of a preset with the pen in view and refines perturbed
+// starts; returns the median errors before and after.
+void RefineOnPreset(const std::string& preset, Errors* before, Errors* after) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  synth::SequenceOptions seq;
+  seq.preset = preset;
+  seq.frames = 24;
+  seq.segment_frames = 4;
+  seq.seed = 11;
+  std::vector<synth::FrameSpec> specs;
+  std::string error;
+  ASSERT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  synth::SceneRenderer renderer(camera, rig);
+  auto family = TagFamily::Create(rig.family);
+  const auto model = DenseTagModel::Create(*family, rig.pen->faces,
+                                           DenseRefineOptions{}, &error);
+  ASSERT_TRUE(model) << error;
+  std::vector<double> rot0, tr0, rot1, tr1;
+  int k = 0;
+  for (const synth::FrameSpec& spec : specs) {
+    const synth::RenderedFrame frame =
+        renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
+    if (frame.pen_tags.empty() || !spec.scene.tank_from_pen) continue;
+    cv::Mat gray;
+    cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
+    const Pose truth = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+    // A start off the way corner-based poses of small tags are off: 0.6
+    // degrees of rotation and 2 mm along the line of sight (the scale of a
+    // small square is its weakest measurement), 0.2 mm across it; the
+    // direction changes from frame to frame.
+    ++k;
+    const Eigen::Vector3d axis =
+        Eigen::Vector3d(std::sin(k), std::cos(2 * k), 0.5).normalized();
+    const Eigen::Vector3d ray = truth.translation.normalized();
+    const Eigen::Vector3d across = ray.cross(axis).normalized();
+    Pose start;
+    start.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(0.6 * kDeg, axis)) *
+                     truth.rotation;
+    start.translation =
+        truth.translation + (k % 2 ? 2e-3 : -2e-3) * ray + 0.2e-3 * across;
+    Pose refined = start;
+    DenseRefineResult result;
+    DenseRefinePose(gray, camera, *model, DenseRefineOptions{}, &refined,
+                    &result);
+    const Errors e0 = PoseErrors(start, truth), e1 = PoseErrors(refined, truth);
+    rot0.push_back(e0.rot_deg);
+    tr0.push_back(e0.trans_mm);
+    rot1.push_back(e1.rot_deg);
+    tr1.push_back(e1.trans_mm);
+  }
+  ASSERT_GE(rot0.size(), 10u);
+  auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  *before = {median(rot0), median(tr0)};
+  *after = {median(rot1), median(tr1)};
+  std::printf("%s: median %.3f deg %.3f mm -> %.3f deg %.3f mm over %zu\n",
+              preset.c_str(), before->rot_deg, before->trans_mm, after->rot_deg,
+              after->trans_mm, rot0.size());
+}
+
+TEST(DenseRefineTest, ConvergesTowardsTheTruthOnSharpFrames) {
+  Errors before, after;
+  RefineOnPreset("clean", &before, &after);
+  // Measured: 0.60 deg, 2.0 mm -> 0.36 deg, 0.67 mm (the basin of a sharp
+  // template is narrow; the tracker starts closer, from the corners).
+  EXPECT_LT(after.rot_deg, 0.75 * before.rot_deg);
+  EXPECT_LT(after.trans_mm, 0.5 * before.trans_mm);
+}
+
+TEST(DenseRefineTest, ConvergesTowardsTheTruthOnBlurredNoisyFrames) {
+  Errors before, after;
+  RefineOnPreset("benchmark", &before, &after);
+  // Measured: 0.60 deg, 2.0 mm -> 0.28 deg, 0.23 mm.
+  EXPECT_LT(after.rot_deg, 0.6 * before.rot_deg);
+  EXPECT_LT(after.trans_mm, 0.3 * before.trans_mm);
+}
+
+TEST(DenseRefineTest, LeavesThePoseAloneOnAnImageWithoutThePen) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  auto family = TagFamily::Create(rig.family);
+  std::string error;
+  const auto model = DenseTagModel::Create(*family, rig.pen->faces,
+                                           DenseRefineOptions{}, &error);
+  ASSERT_TRUE(model) << error;
+  Pose pose = LookAt(Eigen::Vector3d(0.05, -0.2, 0.4), Eigen::Vector3d::Zero(),
+                     Eigen::Vector3d::UnitZ())
+                  .Inverse();
+  const Pose before = pose;
+  // Flat grey: no contrast, every face unusable.
+  cv::Mat flat(camera.height, camera.width, CV_8UC1, cv::Scalar(128));
+  DenseRefineResult result;
+  EXPECT_FALSE(DenseRefinePose(flat, camera, *model, DenseRefineOptions{},
+                               &pose, &result));
+  EXPECT_FALSE(result.refined);
+  EXPECT_EQ(pose.translation, before.translation);
+  // Wrong image type and an empty image are refused too.
+  cv::Mat colour(camera.height, camera.width, CV_8UC3, cv::Scalar::all(128));
+  EXPECT_FALSE(DenseRefinePose(colour, camera, *model, DenseRefineOptions{},
+                               &pose, &result));
+  EXPECT_FALSE(DenseRefinePose(cv::Mat(), camera, *model, DenseRefineOptions{},
+                               &pose, &result));
+}
+
+TEST(DenseRefineOptionsTest, RejectsNonsense) {
+  DenseRefineOptions o;
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error));
+  o.samples_per_cell = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  o = DenseRefineOptions{};
+  o.huber_dn = -1;
+  EXPECT_FALSE(o.IsValid(&error));
+  o = DenseRefineOptions{};
+  o.max_rotation_deg = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+}
+
+}  // namespace
+}  // namespace ripple::tracking

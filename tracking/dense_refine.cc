@@ -1,0 +1,439 @@
+#include "tracking/dense_refine.h"
+
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "tracking/bilinear.h"
+
+namespace ripple::tracking {
+
+bool DenseRefineOptions::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = "dense refinement: " + what;
+    return false;
+  };
+  if (samples_per_cell < 1 || samples_per_cell > 8)
+    return fail("samples_per_cell must be in [1, 8]");
+  if (!(min_template_gradient >= 0)) return fail("min_template_gradient < 0");
+  if (!(min_facing_cos >= 0 && min_facing_cos < 1))
+    return fail("min_facing_cos must be in [0, 1)");
+  if (!(min_contrast_dn >= 0)) return fail("min_contrast_dn < 0");
+  if (max_iterations < 1 || max_iterations > 50)
+    return fail("max_iterations must be in [1, 50]");
+  if (coarse_iterations < 0 || coarse_iterations >= max_iterations)
+    return fail("coarse_iterations must be in [0, max_iterations)");
+  if (!(huber_dn > 0)) return fail("huber_dn must be positive");
+  if (!(max_rotation_deg > 0 && max_translation_m > 0))
+    return fail("max_rotation_deg and max_translation_m must be positive");
+  return true;
+}
+
+namespace {
+
+// Share of a unit cell [a, a + 1] under a Gaussian of sigma `s` centred at x.
+double CellWeight(double x, double a, double s) {
+  const double k = 1.0 / (s * std::sqrt(2.0));
+  return 0.5 * (std::erf((a + 1 - x) * k) - std::erf((a - x) * k));
+}
+
+// The bitmap (0 black, 1 white; white outside) blurred by a Gaussian of
+// sigma `s` cells, at bitmap coordinates (u right, v down, cells).
+double BlurredBitmap(const TagBitmap& b, double u, double v, double s) {
+  const int reach = static_cast<int>(std::ceil(4 * s)) + 1;
+  const int c0 = static_cast<int>(std::floor(u)) - reach;
+  const int r0 = static_cast<int>(std::floor(v)) - reach;
+  double sum = 0, total = 0;
+  for (int r = r0; r <= r0 + 2 * reach; ++r) {
+    const double wr = CellWeight(v, r, s);
+    for (int c = c0; c <= c0 + 2 * reach; ++c) {
+      const double w = wr * CellWeight(u, c, s);
+      const bool inside =
+          r >= 0 && c >= 0 && r < b.total_width && c < b.total_width;
+      sum += w * (inside && b.black(r, c) ? 0.0 : 1.0);
+      total += w;
+    }
+  }
+  return total > 0 ? sum / total : 1.0;
+}
+
+// Bilinear sample with the image gradient at (x, y): central differences
+// over +-1 pixel, themselves bilinear. The caller keeps (x, y) at least 1.5
+// pixels inside the image.
+inline void BilinearWithGradient(const cv::Mat& g, double x, double y,
+                                 double* v, Eigen::RowVector2d* grad) {
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const double fx = x - x0, fy = y - y0;
+  const size_t step = g.step[0];
+  // Rows y0 - 1 .. y0 + 2, columns x0 - 1 .. x0 + 2.
+  const uint8_t* p = g.ptr<uint8_t>(y0 - 1) + (x0 - 1);
+  double m[4][4];
+  for (int r = 0; r < 4; ++r, p += step)
+    for (int c = 0; c < 4; ++c) m[r][c] = p[c];
+  auto at = [&](int r, int c) {  // bilinear at (x0 + c - 1 + fx, ...)
+    return (1 - fy) * ((1 - fx) * m[r][c] + fx * m[r][c + 1]) +
+           fy * ((1 - fx) * m[r + 1][c] + fx * m[r + 1][c + 1]);
+  };
+  *v = at(1, 1);
+  // I(x + 1) - I(x - 1) from the 4x4 neighbourhood: columns shift by one.
+  const double gx =
+      (1 - fy) * ((1 - fx) * (m[1][2] - m[1][0]) + fx * (m[1][3] - m[1][1])) +
+      fy * ((1 - fx) * (m[2][2] - m[2][0]) + fx * (m[2][3] - m[2][1]));
+  const double gy =
+      (1 - fx) * ((1 - fy) * (m[2][1] - m[0][1]) + fy * (m[3][1] - m[1][1])) +
+      fx * ((1 - fy) * (m[2][2] - m[0][2]) + fy * (m[3][2] - m[1][2]));
+  *grad = Eigen::RowVector2d(0.5 * gx, 0.5 * gy);
+}
+
+// One linearised sample: template value, image value, and the derivative of
+// the image value with respect to the pose increment (rotation, translation
+// in the camera frame).
+struct Row {
+  int face = 0;
+  const DenseTagModel::Sample* sample = nullptr;
+  double t = 0, i = 0;
+  Eigen::Matrix<double, 1, 6> j;
+};
+
+// Samples every face of `faces` at `pose`: the image value of each sample
+// inside the image and, with `jacobian`, its derivative with respect to the
+// pose increment.
+void Linearise(const cv::Mat& gray, const Camera& camera,
+               const DenseTagModel& model, const std::vector<int>& faces,
+               const std::vector<int>& levels, const Pose& pose, bool jacobian,
+               std::vector<Row>* rows) {
+  rows->clear();
+  const Eigen::Matrix3d r = pose.R();
+  // The gradient's taps (+-1 px) must be inside the image too.
+  const double x_max = gray.cols - 3, y_max = gray.rows - 3;
+  for (size_t f = 0; f < faces.size(); ++f) {
+    for (const DenseTagModel::Sample& s : model.faces()[faces[f]].samples) {
+      const Eigen::Vector3d p = r * s.point + pose.translation;
+      if (p.z() < 1e-3) continue;
+      Row row;
+      row.face = static_cast<int>(f);
+      row.sample = &s;
+      row.t = s.value[levels[f]];
+      if (!jacobian) {
+        const Eigen::Vector2d uv = camera.Project(p);
+        if (!(uv.x() >= 1 && uv.y() >= 1 && uv.x() < x_max && uv.y() < y_max))
+          continue;
+        SampleBilinear(gray, uv.x(), uv.y(), &row.i);
+        rows->push_back(row);
+        continue;
+      }
+      Eigen::Matrix<double, 2, 3> dpix;
+      const Eigen::Vector2d uv = camera.ProjectWithJacobian(p, &dpix);
+      if (!(uv.x() >= 1 && uv.y() >= 1 && uv.x() < x_max && uv.y() < y_max))
+        continue;
+      double i;
+      Eigen::RowVector2d grad;
+      BilinearWithGradient(gray, uv.x(), uv.y(), &i, &grad);
+      // p' = exp(w) p + v: dp/dw = -[p]x, dp/dv = I.
+      Eigen::Matrix<double, 3, 6> dp;
+      dp.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
+      dp.rightCols<3>().setIdentity();
+      row.i = i;
+      row.j = grad * dpix * dp;
+      rows->push_back(row);
+    }
+  }
+}
+
+struct Fit {
+  std::vector<double> gain, offset;
+  std::vector<bool> usable;
+};
+
+// Sums for the least-squares line image = gain * template + offset.
+struct LineSums {
+  double n = 0, t = 0, tt = 0, i = 0, ti = 0, ii = 0;
+  void Add(double tv, double iv) {
+    n += 1;
+    t += tv;
+    tt += tv * tv;
+    i += iv;
+    ti += tv * iv;
+    ii += iv * iv;
+  }
+  // False when the template does not vary.
+  bool Solve(double* gain, double* offset) const {
+    const double det = n * tt - t * t;
+    if (!(n >= 3 && det > 1e-9 * n * n)) return false;
+    *gain = (n * ti - t * i) / det;
+    *offset = (i - *gain * t) / n;
+    return true;
+  }
+  // Sum of squared residuals of the solved line.
+  double Residual(double gain, double offset) const {
+    return ii - gain * ti - offset * i;
+  }
+};
+
+// Per-face least-squares gain and offset (image = gain * template +
+// offset); a face is usable when its gain (the black-to-white contrast) is
+// at least `min_contrast`.
+Fit FitGains(const std::vector<Row>& rows, int num_faces, double min_contrast) {
+  std::vector<LineSums> sums(num_faces);
+  for (const Row& r : rows) sums[r.face].Add(r.t, r.i);
+  Fit fit;
+  fit.gain.assign(num_faces, 0);
+  fit.offset.assign(num_faces, 0);
+  fit.usable.assign(num_faces, false);
+  for (int f = 0; f < num_faces; ++f) {
+    if (!sums[f].Solve(&fit.gain[f], &fit.offset[f])) continue;
+    fit.usable[f] = fit.gain[f] >= min_contrast;
+  }
+  return fit;
+}
+
+double HuberCost(double r, double k) {
+  const double a = std::abs(r);
+  return a <= k ? 0.5 * r * r : k * (a - 0.5 * k);
+}
+
+// Robust cost and RMS of the rows of usable faces.
+void Cost(const std::vector<Row>& rows, const Fit& fit, double huber,
+          double* cost, double* rms, int* n) {
+  *cost = 0;
+  double sq = 0;
+  *n = 0;
+  for (const Row& r : rows) {
+    if (!fit.usable[r.face]) continue;
+    const double e = r.i - (fit.gain[r.face] * r.t + fit.offset[r.face]);
+    *cost += HuberCost(e, huber);
+    sq += e * e;
+    ++*n;
+  }
+  *rms = *n > 0 ? std::sqrt(sq / *n) : 0;
+}
+
+// Template blur of the coarse phase (an index into kBlurCells).
+constexpr int kCoarseLevel = 2;
+
+Pose Apply(const Pose& pose, const Eigen::Matrix<double, 6, 1>& d) {
+  const Eigen::Vector3d w = d.head<3>();
+  const double angle = w.norm();
+  const Eigen::Quaterniond q =
+      angle > 1e-15 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, w / angle))
+                    : Eigen::Quaterniond::Identity();
+  Pose out;
+  out.rotation = (q * pose.rotation).normalized();
+  out.translation = q * pose.translation + d.tail<3>();
+  return out;
+}
+
+}  // namespace
+
+std::optional<DenseTagModel> DenseTagModel::Create(
+    const TagFamily& family, const std::vector<TagPlacement>& tags,
+    const DenseRefineOptions& options, std::string* error) {
+  DenseTagModel model;
+  for (const TagPlacement& tag : tags) {
+    const std::optional<TagBitmap> bitmap = MakeTagBitmap(family, tag.id);
+    if (!bitmap) {
+      if (error)
+        *error = "tag id " + std::to_string(tag.id) + " is not in family " +
+                 family.name();
+      return std::nullopt;
+    }
+    Face face;
+    face.id = tag.id;
+    face.centre = tag.object_from_tag.translation;
+    face.normal = -(tag.object_from_tag.R().col(2));  // tag z points inward
+    const int total = bitmap->total_width;
+    const double border = 0.5 * (total - bitmap->width_at_border);
+    const double cell_m = tag.edge_m / bitmap->width_at_border;
+    const int n = options.samples_per_cell;
+    const double widest = kBlurCells[kBlurLevels - 1];
+    const double h = 0.05;  // cells, for the template gradient
+    // Samples over the bitmap less the outer half cell (beyond it lies the
+    // cube's edge or the board around the tag, which the model does not
+    // know).
+    for (int j = 0; j < total * n; ++j) {
+      for (int i = 0; i < total * n; ++i) {
+        const double u = (i + 0.5) / n, v = (j + 0.5) / n;
+        if (u < 0.5 || v < 0.5 || u > total - 0.5 || v > total - 0.5) continue;
+        const double gx = (BlurredBitmap(*bitmap, u + h, v, widest) -
+                           BlurredBitmap(*bitmap, u - h, v, widest)) /
+                          (2 * h);
+        const double gy = (BlurredBitmap(*bitmap, u, v + h, widest) -
+                           BlurredBitmap(*bitmap, u, v - h, widest)) /
+                          (2 * h);
+        if (std::hypot(gx, gy) < options.min_template_gradient) continue;
+        Sample sample;
+        for (int l = 0; l < kBlurLevels; ++l)
+          sample.value[l] =
+              static_cast<float>(BlurredBitmap(*bitmap, u, v, kBlurCells[l]));
+        const Eigen::Vector3d in_tag((u - border) * cell_m - 0.5 * tag.edge_m,
+                                     (v - border) * cell_m - 0.5 * tag.edge_m,
+                                     0.0);
+        sample.point = tag.object_from_tag * in_tag;
+        face.samples.push_back(sample);
+      }
+    }
+    model.faces_.push_back(std::move(face));
+  }
+  return model;
+}
+
+bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
+                     const DenseTagModel& model,
+                     const DenseRefineOptions& options, Pose* cam_from_object,
+                     DenseRefineResult* result) {
+  DenseRefineResult local;
+  DenseRefineResult& res = result ? *result : local;
+  res = DenseRefineResult{};
+  if (gray.empty() || gray.type() != CV_8UC1) return false;
+  const Pose start = *cam_from_object;
+  // Faces turned towards the camera at the starting pose.
+  std::vector<int> faces;
+  const Eigen::Matrix3d r0 = start.R();
+  for (size_t f = 0; f < model.faces().size(); ++f) {
+    const DenseTagModel::Face& face = model.faces()[f];
+    const Eigen::Vector3d c = start * face.centre;
+    const Eigen::Vector3d n = r0 * face.normal;
+    if (c.z() <= 0 || -n.dot(c.normalized()) < options.min_facing_cos) continue;
+    faces.push_back(static_cast<int>(f));
+  }
+  if (faces.empty()) return false;
+  const int nf = static_cast<int>(faces.size());
+
+  // Per face, the template blur that fits the image best at the start.
+  std::vector<int> levels(nf, 0);
+  std::vector<Row> rows;
+  Linearise(gray, camera, model, faces, levels, start, true, &rows);
+  {
+    // One pass: per face and level the sums of the least-squares fit of
+    // image on template.
+    constexpr int kL = DenseTagModel::kBlurLevels;
+    std::vector<std::array<LineSums, kL>> sums(nf);
+    for (const Row& r : rows)
+      for (int l = 0; l < kL; ++l) sums[r.face][l].Add(r.sample->value[l], r.i);
+    for (int f = 0; f < nf; ++f) {
+      double best = std::numeric_limits<double>::infinity();
+      for (int l = 0; l < kL; ++l) {
+        double gain, offset;
+        if (!sums[f][l].Solve(&gain, &offset)) continue;
+        const double sse = sums[f][l].Residual(gain, offset);
+        if (sse < best) {
+          best = sse;
+          levels[f] = l;
+        }
+      }
+    }
+  }
+  for (Row& r : rows) r.t = r.sample->value[levels[r.face]];
+  Fit fit = FitGains(rows, nf, options.min_contrast_dn);
+  double cost0, rms0;
+  int n0;
+  Cost(rows, fit, options.huber_dn, &cost0, &rms0, &n0);
+  if (n0 < 12) return false;
+  res.rms_before_dn = rms0;
+  // The usable faces are fixed by the starting pose so that costs compare.
+  const std::vector<bool> usable = fit.usable;
+
+  Pose pose = start;
+  double cost = cost0, rms = rms0;
+  int n = n0;
+  // Coarse to fine: the first iterations use a template at least
+  // kCoarseLevel blurred, whose basin is wider than a sharp one's.
+  std::vector<int> current = levels;
+  for (int& l : current) l = std::max(l, kCoarseLevel);
+  auto use_levels = [&](const std::vector<int>& lv) {
+    current = lv;
+    for (Row& r : rows) r.t = r.sample->value[lv[r.face]];
+    fit = FitGains(rows, nf, 0.0);
+    for (int f = 0; f < nf; ++f) fit.usable[f] = fit.usable[f] && usable[f];
+    Cost(rows, fit, options.huber_dn, &cost, &rms, &n);
+  };
+  if (options.coarse_iterations > 0 && current != levels) {
+    use_levels(current);
+  } else {
+    current = levels;
+  }
+  for (int it = 0; it < options.max_iterations; ++it) {
+    if (it == options.coarse_iterations && current != levels)
+      use_levels(levels);
+    const bool coarse = current != levels;
+    // Huber weights and the Gauss-Newton step on the usable faces.
+    Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    for (const Row& r : rows) {
+      if (!usable[r.face] || !fit.usable[r.face]) continue;
+      const double e = r.i - (fit.gain[r.face] * r.t + fit.offset[r.face]);
+      const double w = std::abs(e) <= options.huber_dn
+                           ? 1.0
+                           : options.huber_dn / std::abs(e);
+      // Upper triangle only; mirrored below.
+      for (int a = 0; a < 6; ++a) {
+        const double wa = w * r.j(a);
+        g(a) += wa * e;
+        for (int b = a; b < 6; ++b) hessian(a, b) += wa * r.j(b);
+      }
+    }
+    hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
+    // A little damping keeps a weakly constrained direction from running off.
+    hessian.diagonal() += 1e-6 * hessian.diagonal().cwiseAbs().maxCoeff() *
+                          Eigen::Matrix<double, 6, 1>::Ones();
+    const Eigen::Matrix<double, 6, 1> step = -hessian.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    // Halve the step until the cost drops.
+    bool improved = false;
+    double scale = 1.0;
+    for (int tries = 0; tries < 4; ++tries, scale *= 0.5) {
+      const Pose trial = Apply(pose, scale * step);
+      std::vector<Row> trial_rows;
+      Linearise(gray, camera, model, faces, current, trial, false, &trial_rows);
+      Fit trial_fit = FitGains(trial_rows, nf, 0.0);
+      for (int f = 0; f < nf; ++f)
+        trial_fit.usable[f] = trial_fit.usable[f] && usable[f];
+      double c, q;
+      int m;
+      Cost(trial_rows, trial_fit, options.huber_dn, &c, &q, &m);
+      if (m >= n * 0.9 && c / std::max(m, 1) < cost / std::max(n, 1)) {
+        pose = trial;
+        fit = trial_fit;
+        cost = c;
+        rms = q;
+        n = m;
+        improved = true;
+        break;
+      }
+    }
+    res.iterations = it + 1;
+    // Converged: a step under 0.005 degrees and 5 micrometres (0.01 mm at a
+    // tip 0.14 m away).
+    const bool converged = improved && scale * step.head<3>().norm() < 1e-4 &&
+                           scale * step.tail<3>().norm() < 5e-6;
+    if (!improved || converged) {
+      if (!coarse) break;
+      // On to the fine phase at once.
+      it = std::max(it, options.coarse_iterations - 1);
+      if (it + 1 >= options.max_iterations) break;
+    }
+    if (improved && it + 1 < options.max_iterations)
+      Linearise(gray, camera, model, faces, current, pose, true, &rows);
+  }
+  // The final cost must be on the fine templates to compare with the start.
+  if (current != levels) use_levels(levels);
+  res.faces = 0;
+  for (int f = 0; f < nf; ++f) {
+    res.faces += usable[f];
+    if (usable[f]) res.blur_levels.push_back(levels[f]);
+  }
+  res.samples = n;
+  res.rms_after_dn = rms;
+  const double turn = RotationDistance(pose, start) * 180.0 / M_PI;
+  const double move = (pose.translation - start.translation).norm();
+  if (!(cost / std::max(n, 1) < cost0 / std::max(n0, 1)) ||
+      turn > options.max_rotation_deg || move > options.max_translation_m)
+    return false;
+  *cam_from_object = pose;
+  res.refined = true;
+  return true;
+}
+
+}  // namespace ripple::tracking

@@ -45,7 +45,6 @@ enum Unit : int {
   kUnitScene = 3,
   kUnitReflection = 4,
   kUnitVideo = 5,
-  kUnitMap = 6,
   kUnitReceiver = 7,
   kUnitOverlay = 8,
 };
@@ -206,6 +205,28 @@ void BgrToRgbaRow(const std::uint8_t* bgr, int n, std::uint32_t* out) {
   BgrToRgbaRowScalar(bgr, n, out);
 }
 
+// Quarter-size RGBA8 image (w / 4 x h / 4; w, h multiples of 4) as
+// glBlitFramebuffer with GL_LINEAR makes it: each output pixel's centre
+// falls between source pixels 4i+1 and 4i+2 in x and y, i.e. the mean of
+// that 2x2 block (rounded; the GPU's 8-bit lerps may differ by 1).
+void QuarterRgba(const std::uint32_t* src, int w, int h, std::uint32_t* out) {
+  const int rw = w / 4, rh = h / 4;
+  for (int j = 0; j < rh; ++j) {
+    const auto* r0 = reinterpret_cast<const std::uint8_t*>(
+        src + static_cast<size_t>(4 * j + 1) * w);
+    const std::uint8_t* r1 = r0 + static_cast<size_t>(w) * 4;
+    auto* o =
+        reinterpret_cast<std::uint8_t*>(out + static_cast<size_t>(j) * rw);
+    for (int i = 0; i < rw; ++i) {
+      const int x = 4 * (4 * i + 1);
+      for (int c = 0; c < 4; ++c) {
+        o[4 * i + c] = static_cast<std::uint8_t>(
+            (r0[x + c] + r0[x + 4 + c] + r1[x + c] + r1[x + 4 + c] + 2) >> 2);
+      }
+    }
+  }
+}
+
 bool AttachColor(Framebuffer* fbo, const Texture& t) {
   fbo->Create();
   glBindFramebuffer(GL_FRAMEBUFFER, fbo->id());
@@ -282,8 +303,9 @@ struct Renderer::Impl {
   PassTimings timings;
 
   std::map<int, Program> water_programs;  // by WaterVariant bits
-  Program solid_program, depth_program, water_depth_program, walls_programs[2],
-      undistort_program, receiver_program, overlay_program;
+  Program solid_programs[2],              // without, with shadows
+      depth_program, water_depth_program, walls_programs[2], undistort_program,
+      receiver_program, overlay_program;
   VertexArray empty_vao;
   Mesh box, cylinder;
   VertexArray grid_vao;
@@ -300,11 +322,16 @@ struct Renderer::Impl {
   // slow per-pixel conversion on the calling thread), the undistortion map, the
   // copy of the background (video + obstacles) under the water for
   // refraction, and the small reflection map.
-  Texture video_tex, map_tex, scene_copy_tex, reflection_tex;
+  Texture video_tex, scene_copy_tex, reflection_tex;
   Framebuffer video_fbo, scene_copy_fbo, reflection_fbo;
   int video_w = 0, video_h = 0;
   bool have_video = false;
-  std::vector<std::uint32_t> video_rgba;  // upload buffer
+  // The reflection map was made on the CPU from the last video frame (no
+  // distortion, video of the output's size, a multiple of 4): the main pass
+  // then needs no downsampling blit, a separate llvmpipe scene.
+  bool reflection_from_cpu = false;
+  std::vector<std::uint32_t> video_rgba;       // upload buffer
+  std::vector<std::uint32_t> reflection_rgba;  // upload buffer
   Buffer pbo;
   // HUD overlay (BGRA8 -> RGBA8 texture), drawn by Present().
   Texture overlay_tex;
@@ -367,7 +394,9 @@ bool Renderer::Impl::Init(std::string* error) {
                    const char* fs) {
     return BuildProgram(p, name, vs, fs, "", error);
   };
-  if (!build(&solid_program, "solid", "solid.vert", "solid.frag") ||
+  if (!build(&solid_programs[0], "solid", "solid.vert", "solid.frag") ||
+      !BuildProgram(&solid_programs[1], "shadowed solid", "solid.vert",
+                    "solid.frag", "#define SHADOWS 1\n", error) ||
       !build(&depth_program, "depth", "solid.vert", "depth.frag") ||
       !build(&water_depth_program, "water_depth", "water.vert", "depth.frag") ||
       !build(&walls_programs[0], "walls", "walls.vert", "walls.frag") ||
@@ -397,13 +426,22 @@ bool Renderer::Impl::Init(std::string* error) {
   for (int j = 0; j <= g; ++j) {
     for (int i = 0; i <= g; ++i) grid.emplace_back(float(i) / g, float(j) / g);
   }
+  // One triangle strip, row after row of quads joined by degenerate
+  // triangles (4 per row, zero area, dropped by the rasteriser's setup): a
+  // third of the indices of a triangle list, so llvmpipe's draw module
+  // shades each vertex about twice instead of up to six times. Each quad is
+  // split along its (i, j)-(i+1, j+1) diagonal, as a list would.
   std::vector<std::uint32_t> indices;
-  indices.reserve(6 * g * g);
+  indices.reserve(g * (2 * g + 4));
   for (int j = 0; j < g; ++j) {
-    for (int i = 0; i < g; ++i) {
-      const std::uint32_t a = j * (g + 1) + i, b = a + 1, c = a + g + 1,
-                          d = c + 1;
-      for (std::uint32_t x : {a, b, d, a, d, c}) indices.push_back(x);
+    if (j > 0) {
+      indices.push_back(indices.back());
+      indices.push_back(j * (g + 1) + g + 1);
+    }
+    for (int i = 0; i <= g; ++i) {
+      const std::uint32_t a = j * (g + 1) + i;
+      indices.push_back(a + g + 1);
+      indices.push_back(a);
     }
   }
   grid_index_count = static_cast<int>(indices.size());
@@ -438,7 +476,7 @@ bool Renderer::Impl::Init(std::string* error) {
 
   // Flat water until a height field arrives.
   const glm::vec4 zero(0.0f);
-  AllocTexture(&height_tex, GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, GL_LINEAR,
+  AllocTexture(&height_tex, GL_RGBA16F, 1, 1, GL_RGBA, GL_FLOAT, GL_LINEAR,
                GL_CLAMP_TO_EDGE, &zero);
   height_nx = height_ny = 1;
 
@@ -511,7 +549,7 @@ const Program* Renderer::Impl::WaterProgram(int variant) {
   if (variant & kWaterFlat) defines += "#define FLAT_WATER 1\n";
   Program p;
   std::string error;
-  if (!BuildProgram(&p, "water", "fullscreen.vert", "water.frag", defines,
+  if (!BuildProgram(&p, "water", "water_deferred.vert", "water.frag", defines,
                     &error)) {
     std::fprintf(stderr, "ripple render: %s\n", error.c_str());
     return nullptr;
@@ -547,23 +585,7 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
   AllocTexture(&reflection_tex, GL_RGBA8, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE,
                GL_LINEAR, GL_MIRRORED_REPEAT);
   ok = ok && AttachColor(&reflection_fbo, reflection_tex);
-  if (k.HasDistortion()) {
-    // For each ideal output pixel, the texture coordinate of the distorted
-    // source pixel: a forward evaluation of OpenCV's model, no iteration.
-    std::vector<glm::vec2> map(static_cast<size_t>(w) * h);
-    for (int v = 0; v < h; ++v) {
-      for (int u = 0; u < w; ++u) {
-        const glm::dvec2 d =
-            DistortedPixel(k, (u - k.cx) / k.fx, (v - k.cy) / k.fy);
-        map[static_cast<size_t>(v) * w + u] =
-            glm::vec2((d.x + 0.5) / w, (d.y + 0.5) / h);
-      }
-    }
-    AllocTexture(&map_tex, GL_RG32F, w, h, GL_RG, GL_FLOAT, GL_NEAREST,
-                 GL_CLAMP_TO_EDGE, map.data());
-  } else {
-    map_tex.Reset();
-  }
+  reflection_from_cpu = false;  // until the next video upload
   glBindBuffer(GL_PIXEL_PACK_BUFFER, pbo.id());
   glBufferData(GL_PIXEL_PACK_BUFFER, static_cast<GLsizeiptr>(w) * h * 4,
                nullptr, GL_STREAM_READ);
@@ -595,6 +617,19 @@ void Renderer::Impl::UploadVideo(const VideoFrame& f) {
   glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, f.width, f.height, GL_RGBA,
                   GL_UNSIGNED_BYTE, video_rgba.data());
   have_video = true;
+  // With lens distortion the map is made from the distorted frame: a few
+  // pixels of shift in a blurred quarter-size map that only feeds the
+  // reflection's fake environment.
+  reflection_from_cpu = f.width == k.width && f.height == k.height &&
+                        f.width % 4 == 0 && f.height % 4 == 0;
+  if (reflection_from_cpu) {
+    const int rw = f.width / 4, rh = f.height / 4;
+    reflection_rgba.resize(static_cast<size_t>(rw) * rh);
+    QuarterRgba(video_rgba.data(), f.width, f.height, reflection_rgba.data());
+    glBindTexture(GL_TEXTURE_2D, reflection_tex.id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE,
+                    reflection_rgba.data());
+  }
 }
 
 void Renderer::Impl::UpdateHeights(const SceneInputs& scene) {
@@ -602,7 +637,7 @@ void Renderer::Impl::UpdateHeights(const SceneInputs& scene) {
   if (w.heights == nullptr || w.nx <= 0 || w.ny <= 0 || w.cell_size <= 0) {
     if (height_nx != 1 || height_counter.has_value()) {
       const glm::vec4 zero(0.0f);
-      AllocTexture(&height_tex, GL_RGBA32F, 1, 1, GL_RGBA, GL_FLOAT, GL_LINEAR,
+      AllocTexture(&height_tex, GL_RGBA16F, 1, 1, GL_RGBA, GL_FLOAT, GL_LINEAR,
                    GL_CLAMP_TO_EDGE, &zero);
       height_nx = height_ny = 1;
       height_counter.reset();
@@ -615,7 +650,9 @@ void Renderer::Impl::UpdateHeights(const SceneInputs& scene) {
   const bool resized = w.nx != height_nx || w.ny != height_ny;
   if (!resized && height_counter == w.change_counter) return;
   // Height and central-difference slopes per cell, so the fragment shader
-  // needs one fetch for its normal.
+  // needs one fetch for its normal. Stored as half floats: llvmpipe fetches
+  // and filters 8 bytes per texel instead of 16, and displacements of
+  // millimetres keep 11 significant bits.
   const int nx = w.nx, ny = w.ny;
   const float inv = 1.0f / w.cell_size;
   height_slopes.resize(static_cast<size_t>(nx) * ny);
@@ -633,7 +670,7 @@ void Renderer::Impl::UpdateHeights(const SceneInputs& scene) {
     }
   }
   if (resized) {
-    AllocTexture(&height_tex, GL_RGBA32F, nx, ny, GL_RGBA, GL_FLOAT, GL_LINEAR,
+    AllocTexture(&height_tex, GL_RGBA16F, nx, ny, GL_RGBA, GL_FLOAT, GL_LINEAR,
                  GL_CLAMP_TO_EDGE, height_slopes.data());
     height_nx = nx;
     height_ny = ny;
@@ -928,7 +965,8 @@ glm::ivec4 Renderer::Impl::TankRect(const SceneInputs& scene,
 }
 
 // Background: the (undistorted) video drawn straight into the output FBO,
-// and the quarter-size reflection map taken from it when `reflection`.
+// and the quarter-size reflection map taken from it when `reflection`
+// (unless UploadVideo already made it on the CPU).
 // Nothing is drawn before any video has arrived.
 void Renderer::Impl::DrawVideoBackground(bool reflection) {
   if (!have_video) return;
@@ -939,22 +977,29 @@ void Renderer::Impl::DrawVideoBackground(bool reflection) {
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_STENCIL_TEST);
     glDisable(GL_BLEND);
-    glUseProgram(undistort_program.id());
-    SetInt(undistort_program, "u_video", kUnitVideo);
-    SetInt(undistort_program, "u_map", kUnitMap);
+    const Program& p = undistort_program;
+    glUseProgram(p.id());
+    SetInt(p, "u_video", kUnitVideo);
+    glUniform4f(p.Uniform("u_intr"), float(k.fx), float(k.fy), float(k.cx),
+                float(k.cy));
+    glUniform2f(p.Uniform("u_image_size"), float(w), float(h));
+    glUniform4f(p.Uniform("u_dist0"), float(k.dist[0]), float(k.dist[1]),
+                float(k.dist[2]), float(k.dist[3]));
+    glUniform4f(p.Uniform("u_dist1"), float(k.dist[4]), float(k.dist[5]),
+                float(k.dist[6]), float(k.dist[7]));
     glActiveTexture(GL_TEXTURE0 + kUnitVideo);
     glBindTexture(GL_TEXTURE_2D, video_tex.id());
-    glActiveTexture(GL_TEXTURE0 + kUnitMap);
-    glBindTexture(GL_TEXTURE_2D, map_tex.id());
     glBindVertexArray(empty_vao.id());
     glDrawArrays(GL_TRIANGLES, 0, 3);
   } else {
+    // Same size: GL_NEAREST lets Mesa copy the pixels (resource_copy_region)
+    // instead of drawing a textured quad (1.5 ms at 640x480 on llvmpipe).
     glBindFramebuffer(GL_READ_FRAMEBUFFER, video_fbo.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, main_fbo.id());
     glBlitFramebuffer(0, 0, video_w, video_h, 0, 0, w, h, GL_COLOR_BUFFER_BIT,
-                      GL_LINEAR);
+                      video_w == w && video_h == h ? GL_NEAREST : GL_LINEAR);
   }
-  if (reflection) {
+  if (reflection && !reflection_from_cpu) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, main_fbo.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, reflection_fbo.id());
     glBlitFramebuffer(0, 0, w, h, 0, 0, std::max(1, w / 4), std::max(1, h / 4),
@@ -998,9 +1043,10 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   // water only looks up points inside the tank, so only the tank's window
   // rectangle is copied.
   if (!scene.obstacles.empty()) {
-    SetCommon(solid_program, scene, clip_from_tank);
-    SetVec3(solid_program, "u_albedo", options.obstacle_albedo);
-    DrawSolids(scene, solid_program, clip_from_tank, true, false, false);
+    const Program& solid = solid_programs[scene.effects.shadows ? 1 : 0];
+    SetCommon(solid, scene, clip_from_tank);
+    SetVec3(solid, "u_albedo", options.obstacle_albedo);
+    DrawSolids(scene, solid, clip_from_tank, true, false, false);
   }
   const glm::ivec4 tank_rect = TankRect(scene, clip_from_tank);
   if (tank_rect.z > 0 && tank_rect.w > 0) {
@@ -1037,7 +1083,7 @@ void Renderer::Impl::DrawMain(const SceneInputs& scene) {
   glStencilFunc(GL_ALWAYS, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
   glBindVertexArray(grid_vao.id());
-  glDrawElements(GL_TRIANGLES, grid_index_count, GL_UNSIGNED_INT, nullptr);
+  glDrawElements(GL_TRIANGLE_STRIP, grid_index_count, GL_UNSIGNED_INT, nullptr);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   // (b) One shading per marked pixel, in the water's screen rectangle.
   SetCommon(*water, scene, clip_from_tank);

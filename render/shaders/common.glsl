@@ -1,4 +1,6 @@
 // Shared by every Ripple shader; prepended after the #version line.
+// Textures have no mipmaps: lookups use textureLod(..., 0.0), which spares
+// llvmpipe the per-quad derivatives and LOD selection of texture().
 // Frames: tank frame (metres, z up, floor z = 0); camera frame is OpenCV's.
 uniform mat4 u_clip_from_tank;   // FBO stores the image top row first
 uniform mat4 u_cam_from_tank;
@@ -9,7 +11,7 @@ uniform vec3 u_cam_in_tank;      // camera centre
 uniform vec4 u_tank;             // inner size x, y; wall height; rest level
 uniform vec2 u_hf_extent;        // height-field extent nx*d, ny*d (metres)
 uniform vec2 u_hf_texel;         // 1/nx, 1/ny
-uniform sampler2D u_height;      // RGBA32F: displacement from the rest level,
+uniform sampler2D u_height;      // RGBA16F: displacement from the rest level,
                                  // dh/dx, dh/dy (per cell, linear filtered)
 uniform vec3 u_light;            // unit vector towards the light
 uniform vec3 u_light_refracted;  // light direction under a flat surface
@@ -22,7 +24,9 @@ uniform sampler2D u_caustics;    // relative floor irradiance (flat = 1)
 
 vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
 
-float SurfaceZ(vec2 xy) { return u_tank.w + texture(u_height, HeightUv(xy)).r; }
+float SurfaceZ(vec2 xy) {
+  return u_tank.w + textureLod(u_height, HeightUv(xy), 0.0).r;
+}
 
 // Texture coordinate of a tank point in the (undistorted) video.
 vec2 VideoUv(vec3 p_tank) {
@@ -40,10 +44,10 @@ float Shadow(vec3 p_tank) {
   if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))))
     return 1.0;
   vec2 o = u_shadow_texel;
-  float sum = texture(u_shadow, vec3(s.xy + vec2(-o.x, -o.y), s.z)) +
-              texture(u_shadow, vec3(s.xy + vec2(o.x, -o.y), s.z)) +
-              texture(u_shadow, vec3(s.xy + vec2(-o.x, o.y), s.z)) +
-              texture(u_shadow, vec3(s.xy + vec2(o.x, o.y), s.z));
+  float sum = textureLod(u_shadow, vec3(s.xy + vec2(-o.x, -o.y), s.z), 0.0) +
+              textureLod(u_shadow, vec3(s.xy + vec2(o.x, -o.y), s.z), 0.0) +
+              textureLod(u_shadow, vec3(s.xy + vec2(-o.x, o.y), s.z), 0.0) +
+              textureLod(u_shadow, vec3(s.xy + vec2(o.x, o.y), s.z), 0.0);
   return 0.25 * sum;
 }
 

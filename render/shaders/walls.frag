@@ -31,7 +31,9 @@ void main() {
   // Glass: a faint tint plus a Fresnel sheen, brighter rims at the top edge
   // and the corners, and a bright line where the water meets the glass.
   float cos_v = abs(dot(v, normalize(v_n)));
-  float sheen = 0.05 + 0.45 * pow(1.0 - cos_v, 5.0);
+  float m = 1.0 - cos_v;
+  float m2 = m * m;
+  float sheen = 0.05 + 0.45 * (m2 * m2 * m);  // Schlick; pow is log2 + exp2
   float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
   float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
   float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));

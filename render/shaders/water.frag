@@ -14,6 +14,7 @@
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
 // FLAT_WATER): llvmpipe runs both sides of a branch, so disabled effects
 // must not be in the shader at all.
+in vec3 v_ray;  // the pixel's viewing ray (water_deferred.vert)
 out vec4 o_color;
 uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
 uniform sampler2D u_reflection;  // small blurred copy, mirrored wrap
@@ -29,7 +30,7 @@ vec3 EnvLookup(vec3 p, vec3 r) {
   vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
   c.z = max(abs(c.z), 0.02);  // fold what lies behind the camera forwards
   vec2 px = u_intr.xy * c.xy / c.z + u_intr.zw;
-  return texture(u_reflection, (px + 0.5) / u_image_size).rgb;
+  return textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb;
 }
 
 void main() {
@@ -39,15 +40,13 @@ void main() {
   // The pixel's ray (OpenCV pixel = window - 0.5 in our top-first FBO) and
   // two fixed-point steps onto the surface z = level + h(x, y). Height and
   // slope are precomputed per cell: (h, dh/dx, dh/dy).
-  vec2 px = gl_FragCoord.xy - 0.5;
-  vec3 v = normalize(mat3(u_tank_from_cam) *
-                     vec3((px - u_intr.zw) / u_intr.xy, 1.0));
+  vec3 v = normalize(v_ray);
   vec3 c = u_cam_in_tank;
   float dz = min(v.z, -1e-4);
   float s = (u_tank.w - c.z) / dz;
-  vec3 hs = texture(u_height, HeightUv(c.xy + s * v.xy)).rgb;
+  vec3 hs = textureLod(u_height, HeightUv(c.xy + s * v.xy), 0.0).rgb;
   s = (u_tank.w + hs.x - c.z) / dz;
-  hs = texture(u_height, HeightUv(c.xy + s * v.xy)).rgb;
+  hs = textureLod(u_height, HeightUv(c.xy + s * v.xy), 0.0).rgb;
   s = (u_tank.w + hs.x - c.z) / dz;
   vec3 p = c + s * v;
   p.xy = clamp(p.xy, -0.5 * u_tank.xy, 0.5 * u_tank.xy);
@@ -67,14 +66,14 @@ void main() {
   float tw = max(min(tx, ty), 0.0);
   float th = min(tf, tw);
   vec3 f = p + t * th;
-  vec3 base = texture(u_scene, VideoUv(f)).rgb;
+  vec3 base = textureLod(u_scene, VideoUv(f), 0.0).rgb;
   float lit = 1.0;
   vec2 floor_uv = f.xy / u_tank.xy + 0.5;
 #ifdef SHADOWS
-  lit *= texture(u_receiver, floor_uv).r;
+  lit *= textureLod(u_receiver, floor_uv, 0.0).r;
 #endif
 #ifdef CAUSTICS
-  lit *= texture(u_caustics, floor_uv).r;
+  lit *= textureLod(u_caustics, floor_uv, 0.0).r;
 #endif
 #if defined(SHADOWS) || defined(CAUSTICS)
   if (tf <= tw) base *= u_ambient + (1.0 - u_ambient) * lit;
@@ -85,15 +84,28 @@ void main() {
   vec3 r = reflect(v, n);
 #ifdef REFLECTION
   float cos_v = max(dot(-v, n), 0.0);
-  float fresnel = 0.02 + 0.98 * pow(1.0 - cos_v, 5.0);  // Schlick
+  float m = 1.0 - cos_v;
+  float m2 = m * m;
+  float fresnel = 0.02 + 0.98 * (m2 * m2 * m);  // Schlick
   color = mix(color, EnvLookup(p, r), fresnel);
 #endif
 #ifdef SHADOWS
-  float sun = texture(u_receiver, tank_uv).g;
+  float sun = textureLod(u_receiver, tank_uv, 0.0).g;
 #else
   float sun = 1.0;
 #endif
-  color += pow(max(dot(r, u_light), 0.0), 300.0) * 1.5 * sun;
+  // x^300 = x^256 x^32 x^8 x^4 by squaring: llvmpipe's pow is a log2 and
+  // an exp2 polynomial each.
+  float x = max(dot(r, u_light), 0.0);
+  float x4 = x * x;
+  x4 *= x4;
+  float x8 = x4 * x4;
+  float x32 = x8 * x8;
+  x32 *= x32;
+  float x256 = x32 * x32;
+  x256 *= x256;
+  x256 *= x256;
+  color += (x256 * x32 * x8 * x4) * 1.5 * sun;
   o_color = vec4(color, 1.0);
 #endif
 }

@@ -408,7 +408,7 @@ int RunBenchTracking(const BenchArgs& args) {
             r = s->tracker->Track(frame.image, spec.time_s);
           } else {
             const auto& [dets, ms] = shared[s->options.detector.quad_decimate];
-            r = s->tracker->TrackDetections(dets, spec.time_s, ms);
+            r = s->tracker->TrackDetections(dets, spec.time_s, ms, &gray);
           }
           o.tank = r.tank.cam_from_object;
           o.pen = r.pen.cam_from_object;

@@ -109,13 +109,15 @@ void Linearise(const cv::Mat& gray, const Camera& camera,
   // The gradient's taps (+-1 px) must be inside the image too.
   const double x_max = gray.cols - 3, y_max = gray.rows - 3;
   for (size_t f = 0; f < faces.size(); ++f) {
+    const unsigned mask = levels[f] < 0 ? ~0u : 1u << levels[f];
     for (const DenseTagModel::Sample& s : model.faces()[faces[f]].samples) {
+      if (!(s.informative & mask)) continue;
       const Eigen::Vector3d p = r * s.point + pose.translation;
       if (p.z() < 1e-3) continue;
       Row row;
       row.face = static_cast<int>(f);
       row.sample = &s;
-      row.t = s.value[levels[f]];
+      row.t = s.value[std::max(levels[f], 0)];
       if (!jacobian) {
         const Eigen::Vector2d uv = camera.Project(p);
         if (!(uv.x() >= 1 && uv.y() >= 1 && uv.x() < x_max && uv.y() < y_max))
@@ -131,12 +133,11 @@ void Linearise(const cv::Mat& gray, const Camera& camera,
       double i;
       Eigen::RowVector2d grad;
       BilinearWithGradient(gray, uv.x(), uv.y(), &i, &grad);
-      // p' = exp(w) p + v: dp/dw = -[p]x, dp/dv = I.
-      Eigen::Matrix<double, 3, 6> dp;
-      dp.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
-      dp.rightCols<3>().setIdentity();
+      // p' = exp(w) p + v, so dI/dv = g and dI/dw = g (w x p) / dw = p x g
+      // with g = dI/dp.
+      const Eigen::Vector3d g = (grad * dpix).transpose();
       row.i = i;
-      row.j = grad * dpix * dp;
+      row.j << p.cross(g).transpose(), g.transpose();
       rows->push_back(row);
     }
   }
@@ -247,7 +248,6 @@ std::optional<DenseTagModel> DenseTagModel::Create(
     const double border = 0.5 * (total - bitmap->width_at_border);
     const double cell_m = tag.edge_m / bitmap->width_at_border;
     const int n = options.samples_per_cell;
-    const double widest = kBlurCells[kBlurLevels - 1];
     const double h = 0.05;  // cells, for the template gradient
     // Samples over the bitmap less the outer half cell (beyond it lies the
     // cube's edge or the board around the tag, which the model does not
@@ -256,17 +256,21 @@ std::optional<DenseTagModel> DenseTagModel::Create(
       for (int i = 0; i < total * n; ++i) {
         const double u = (i + 0.5) / n, v = (j + 0.5) / n;
         if (u < 0.5 || v < 0.5 || u > total - 0.5 || v > total - 0.5) continue;
-        const double gx = (BlurredBitmap(*bitmap, u + h, v, widest) -
-                           BlurredBitmap(*bitmap, u - h, v, widest)) /
-                          (2 * h);
-        const double gy = (BlurredBitmap(*bitmap, u, v + h, widest) -
-                           BlurredBitmap(*bitmap, u, v - h, widest)) /
-                          (2 * h);
-        if (std::hypot(gx, gy) < options.min_template_gradient) continue;
         Sample sample;
-        for (int l = 0; l < kBlurLevels; ++l)
+        for (int l = 0; l < kBlurLevels; ++l) {
+          const double sl = kBlurCells[l];
+          const double gx = (BlurredBitmap(*bitmap, u + h, v, sl) -
+                             BlurredBitmap(*bitmap, u - h, v, sl)) /
+                            (2 * h);
+          const double gy = (BlurredBitmap(*bitmap, u, v + h, sl) -
+                             BlurredBitmap(*bitmap, u, v - h, sl)) /
+                            (2 * h);
+          if (std::hypot(gx, gy) >= options.min_template_gradient)
+            sample.informative |= 1u << l;
           sample.value[l] =
-              static_cast<float>(BlurredBitmap(*bitmap, u, v, kBlurCells[l]));
+              static_cast<float>(BlurredBitmap(*bitmap, u, v, sl));
+        }
+        if (sample.informative == 0) continue;
         const Eigen::Vector3d in_tag((u - border) * cell_m - 0.5 * tag.edge_m,
                                      (v - border) * cell_m - 0.5 * tag.edge_m,
                                      0.0);
@@ -304,8 +308,10 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   // Per face, the template blur that fits the image best at the start.
   std::vector<int> levels(nf, 0);
   std::vector<Row> rows;
-  Linearise(gray, camera, model, faces, levels, start, true, &rows);
   {
+    // Every sample (level -1), values only.
+    Linearise(gray, camera, model, faces, std::vector<int>(nf, -1), start,
+              false, &rows);
     // One pass: per face and level the sums of the least-squares fit of
     // image on template.
     constexpr int kL = DenseTagModel::kBlurLevels;
@@ -325,6 +331,14 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       }
     }
   }
+  // The starting cost on the chosen templates: the samples informative at
+  // each face's level, out of those just taken.
+  rows.erase(
+      std::remove_if(rows.begin(), rows.end(),
+                     [&](const Row& r) {
+                       return !(r.sample->informative & (1u << levels[r.face]));
+                     }),
+      rows.end());
   for (Row& r : rows) r.t = r.sample->value[levels[r.face]];
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);
   double cost0, rms0;
@@ -342,21 +356,24 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   // kCoarseLevel blurred, whose basin is wider than a sharp one's.
   std::vector<int> current = levels;
   for (int& l : current) l = std::max(l, kCoarseLevel);
-  auto use_levels = [&](const std::vector<int>& lv) {
+  // Switches templates (and with them the informative samples) at `pose`.
+  auto use_levels = [&](const std::vector<int>& lv, bool jacobian) {
     current = lv;
-    for (Row& r : rows) r.t = r.sample->value[lv[r.face]];
+    Linearise(gray, camera, model, faces, lv, pose, jacobian, &rows);
     fit = FitGains(rows, nf, 0.0);
     for (int f = 0; f < nf; ++f) fit.usable[f] = fit.usable[f] && usable[f];
     Cost(rows, fit, options.huber_dn, &cost, &rms, &n);
   };
   if (options.coarse_iterations > 0 && current != levels) {
-    use_levels(current);
+    use_levels(current, true);
   } else {
-    current = levels;
+    use_levels(levels, true);
   }
+  std::vector<Row> trial_rows;
+  trial_rows.reserve(rows.capacity());
   for (int it = 0; it < options.max_iterations; ++it) {
     if (it == options.coarse_iterations && current != levels)
-      use_levels(levels);
+      use_levels(levels, true);
     const bool coarse = current != levels;
     // Huber weights and the Gauss-Newton step on the usable faces.
     Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
@@ -385,7 +402,6 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     double scale = 1.0;
     for (int tries = 0; tries < 4; ++tries, scale *= 0.5) {
       const Pose trial = Apply(pose, scale * step);
-      std::vector<Row> trial_rows;
       Linearise(gray, camera, model, faces, current, trial, false, &trial_rows);
       Fit trial_fit = FitGains(trial_rows, nf, 0.0);
       for (int f = 0; f < nf; ++f)
@@ -414,11 +430,15 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       it = std::max(it, options.coarse_iterations - 1);
       if (it + 1 >= options.max_iterations) break;
     }
-    if (improved && it + 1 < options.max_iterations)
+    // Linearise at the new pose for the next iteration, unless that one
+    // switches templates (use_levels does it then).
+    const bool switching =
+        it + 1 == options.coarse_iterations && current != levels;
+    if (improved && it + 1 < options.max_iterations && !switching)
       Linearise(gray, camera, model, faces, current, pose, true, &rows);
   }
   // The final cost must be on the fine templates to compare with the start.
-  if (current != levels) use_levels(levels);
+  if (current != levels) use_levels(levels, false);
   res.faces = 0;
   for (int f = 0; f < nf; ++f) {
     res.faces += usable[f];

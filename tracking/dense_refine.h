@@ -38,8 +38,9 @@ namespace ripple::tracking {
 struct DenseRefineOptions {
   bool enabled = true;
   int samples_per_cell = 3;  // per cell side, in the tag plane
-  // Samples where the most blurred template is flat carry no pose
-  // information; only those with a gradient above this (per cell) are used.
+  // Samples where a level's template is flat carry no pose information at
+  // that level; each face iterates only over samples whose gradient at its
+  // chosen level is above this (per cell).
   double min_template_gradient = 0.15;
   // Faces seen more obliquely than this (cosine between the face normal and
   // the line of sight) are left out.
@@ -49,9 +50,10 @@ struct DenseRefineOptions {
   // out.
   double min_contrast_dn = 25.0;
   // Gauss-Newton iterations. More iterations fit the template more tightly
-  // but not more truly: on the benchmark preset (blur, noise, JPEG) 3 gave a
-  // lower tip error than 6 on both seeds tried (docs/tracking.md).
-  int max_iterations = 3;
+  // but not more truly: on the benchmark preset (blur, noise, JPEG) 2-3 gave
+  // a lower tip error than 6 on both seeds tried, and 2 costs less
+  // (docs/tracking.md).
+  int max_iterations = 2;
   // Of those, the first run on a template blurred at least 0.35 cells
   // (coarse to fine; a sharp template's basin is about a pixel wide).
   int coarse_iterations = 1;
@@ -91,6 +93,9 @@ class DenseTagModel {
     Eigen::Vector3d point;  // object frame
     // Blurred template per level: 0 black .. 1 white.
     std::array<float, kBlurLevels> value{};
+    // Bit l: the level-l template's gradient reaches min_template_gradient
+    // here (only such samples carry pose information at that level).
+    unsigned informative = 0;
   };
   struct Face {
     int id = -1;

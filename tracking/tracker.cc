@@ -501,9 +501,13 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
     if (!pen_obs.empty())
       pen_estimate =
           EstimatePen(pen_obs, use_prior, r.tank.cam_from_object, time_s);
-    if (pen_estimate && gray && pen_dense_model_ &&
+    const double t_dense = NowMs();
+    const bool refined =
+        pen_estimate && gray && pen_dense_model_ &&
         DenseRefinePose(*gray, camera_, *pen_dense_model_, options_.pen_dense,
-                        &pen_estimate->pose.cam_from_object)) {
+                        &pen_estimate->pose.cam_from_object);
+    r.timings.dense_ms = NowMs() - t_dense;
+    if (refined) {
       int corners = 0;
       const double sse = ReprojectionSse(
           camera_, pen_obs, pen_estimate->pose.cam_from_object, &corners);
@@ -523,9 +527,10 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
 
 FrameResult Tracker::TrackDetections(
     const std::vector<TagDetection>& detections, double time_s,
-    double detect_ms) {
+    double detect_ms, const cv::Mat* gray) {
   const double t0 = NowMs();
-  FrameResult r = Update(detections, time_s, nullptr);
+  FrameResult r = Update(detections, time_s,
+                         gray && gray->type() == CV_8UC1 ? gray : nullptr);
   r.timings.detect_ms = detect_ms;
   r.timings.pose_ms = NowMs() - t0;
   r.timings.total_ms = detect_ms + r.timings.pose_ms;

@@ -124,7 +124,8 @@ struct TrackerOptions {
 
   // Dense photometric refinement of the pen's pose over its faces' known
   // look (tracking/dense_refine.h), after the corner-based estimate. Needs
-  // the image: Track() applies it, TrackDetections() cannot.
+  // the image: Track() applies it, TrackDetections() when given the grey
+  // frame.
   DenseRefineOptions pen_dense;
 
   bool IsValid(std::string* error) const;
@@ -148,6 +149,7 @@ struct ObjectTrack {
 struct FrameTimings {
   double detect_ms = 0;  // grey conversion + detection (all searches)
   double pose_ms = 0;    // pose estimation and temporal logic
+  double dense_ms = 0;   // of which the pen's dense refinement
   double total_ms = 0;
   bool full_search = true;  // the whole frame was searched
 };
@@ -174,9 +176,12 @@ class Tracker {
   // (seconds, increasing).
   FrameResult Track(const cv::Mat& image, double time_s);
   // Pose and temporal logic on detections made elsewhere (benchmarks feed
-  // cached detections); no region search. detect_ms is taken as given.
+  // cached detections); no region search. detect_ms is taken as given. The
+  // pen's dense refinement needs the frame's grey image (CV_8UC1); without
+  // it the corner pose is reported.
   FrameResult TrackDetections(const std::vector<TagDetection>& detections,
-                              double time_s, double detect_ms = 0);
+                              double time_s, double detect_ms = 0,
+                              const cv::Mat* gray = nullptr);
   // Forgets all history (a new video).
   void Reset();
 

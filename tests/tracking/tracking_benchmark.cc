@@ -133,9 +133,10 @@ void BM_Track(benchmark::State& state) {
   const Frames& f = BenchmarkFrames();
   TrackerOptions options;
   options.roi_search = state.range(0) != 0;
+  options.pen_dense.enabled = state.range(1) != 0;
   Tracker tracker(f.camera, f.rig, options);
   size_t i = 0;
-  double detect_ms = 0;
+  double detect_ms = 0, dense_ms = 0;
   int full = 0;
   for (auto _ : state) {
     const size_t k = i % f.gray.size();
@@ -143,10 +144,12 @@ void BM_Track(benchmark::State& state) {
     const FrameResult r =
         tracker.Track(f.gray[k], f.time_s[k] + (i / f.gray.size()) * 10.0);
     detect_ms += r.timings.detect_ms;
+    dense_ms += r.timings.dense_ms;
     full += r.timings.full_search;
     ++i;
   }
   state.counters["detect_ms"] = detect_ms / i;
+  state.counters["dense_ms"] = dense_ms / i;
   state.counters["full_share"] = double(full) / i;
 }
 BENCHMARK(BM_Track)

@@ -94,7 +94,7 @@ struct Row {
   int face = 0;
   const DenseTagModel::Sample* sample = nullptr;
   double t = 0, i = 0;
-  Eigen::Matrix<double, 1, 6> j;
+  Eigen::Matrix<double, 1, 6> j = Eigen::Matrix<double, 1, 6>::Zero();
 };
 
 // Samples every face of `faces` at `pose`: the image value of each sample

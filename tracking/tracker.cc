@@ -205,7 +205,8 @@ bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
 std::optional<Tracker::Estimate> Tracker::CheckFlip(
     const std::vector<TagObservation>& obs, const ObjectPose& estimate,
     const std::optional<Pose>& prior) const {
-  Estimate e{estimate, false, false};
+  Estimate e;
+  e.pose = estimate;
   if (!prior) return e;
   if (RotationDistance(estimate.cam_from_object, *prior) <=
       options_.flip_angle_deg * kDegToRad)
@@ -219,7 +220,10 @@ std::optional<Tracker::Estimate> Tracker::CheckFlip(
         RotationDistance(continued.cam_from_object, estimate.cam_from_object) >
         options_.flip_angle_deg * kDegToRad;
     continued.alternative_rmse_px = estimate.rmse_px;
-    return Estimate{continued, different, false};
+    Estimate kept;
+    kept.pose = continued;
+    kept.flip_rejected = different;
+    return kept;
   }
   e.jumped = true;
   return e;
@@ -427,7 +431,8 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
     }
     if (score < best_score) {
       best_score = score;
-      best = Estimate{pose, false, false};
+      best = Estimate();
+      best->pose = pose;
       best_obs = one;
     }
   }

@@ -91,8 +91,11 @@ TEST(MarkerSheetTest, CubeNetFoldsOntoTheRigFaces) {
                 0, 1e-12);
     EXPECT_NEAR(f.pen_from_page.determinant(), 1, 1e-12);
     EXPECT_NEAR((f.pen_from_page.col(2) + f.normal_in_pen).norm(), 0, 1e-12);
-    for (const NetFace& g : faces)
-      if (&f != &g) EXPECT_GT((f.normal_in_pen - g.normal_in_pen).norm(), 1);
+    for (const NetFace& g : faces) {
+      if (&f != &g) {
+        EXPECT_GT((f.normal_in_pen - g.normal_in_pen).norm(), 1);
+      }
+    }
   }
   // 7 glue tabs (one per open cube edge): 3 cut lines each, plus 7 cut
   // edges without a tab, plus the 5 folds between faces and 7 at the tabs.

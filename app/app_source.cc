@@ -12,6 +12,8 @@
 #include <sstream>
 #include <vector>
 
+#include "app/command.h"
+
 namespace ripple::app {
 namespace {
 
@@ -234,6 +236,19 @@ std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
   }
   return std::make_unique<CaptureSource>(Kind::kCamera, spec,
                                          std::move(capture));
+}
+
+bool ReadFirstFrame(FrameSource* source, cv::Mat* bgr, double* time_s,
+                    int* exit_code, std::string* error) {
+  if (source->Read(bgr, time_s)) return true;
+  if (source->error().empty()) {
+    *exit_code = kExitBadInput;
+    *error = "input '" + source->spec() + "' has no frames";
+  } else {
+    *exit_code = kExitRuntime;
+    *error = source->error();
+  }
+  return false;
 }
 
 }  // namespace ripple::app

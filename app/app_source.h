@@ -61,6 +61,12 @@ class FrameSource {
   cv::Size size_;
 };
 
+// Reads the first frame of a freshly opened source. False with one line in
+// `error` and the exit code in `exit_code`: kExitBadInput for an input
+// without frames, kExitRuntime for a read failure.
+bool ReadFirstFrame(FrameSource* source, cv::Mat* bgr, double* time_s,
+                    int* exit_code, std::string* error);
+
 }  // namespace ripple::app
 
 #endif  // RIPPLE_APP_APP_SOURCE_H_

@@ -46,11 +46,9 @@ int RunReplay(ReplayArgs& args) {
   cv::Mat frame;
   double time_s = 0;
   auto t_cap = std::chrono::steady_clock::now();
-  if (!source->Read(&frame, &time_s))
-    return Fail(source->error().empty() ? kExitBadInput : kExitRuntime,
-                source->error().empty()
-                    ? "input '" + args.input + "' has no frames"
-                    : source->error());
+  int code = 0;
+  if (!ReadFirstFrame(source.get(), &frame, &time_s, &code, &error))
+    return Fail(code, error);
   if (!MatchCameraToFrames(frame.size(), args.camera, &*camera, &error))
     return Fail(kExitBadInput, error);
 

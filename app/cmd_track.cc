@@ -129,11 +129,9 @@ int RunTrack(const TrackArgs& args) {
 
   cv::Mat image;
   double time_s = 0;
-  if (!source->Read(&image, &time_s))
-    return Fail(source->error().empty() ? kExitBadInput : kExitRuntime,
-                source->error().empty()
-                    ? "--input '" + args.input + "': no frame read"
-                    : source->error());
+  int code = 0;
+  if (!ReadFirstFrame(source.get(), &image, &time_s, &code, &error))
+    return Fail(code, error);
   if (!MatchCameraToFrames(image.size(), args.camera, &*camera, &error))
     return Fail(kExitBadInput, error);
 

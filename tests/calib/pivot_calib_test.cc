@@ -74,31 +74,25 @@ TEST(PivotCalibTest, RecoversTipWithinThreeTenthsOfAMillimetre) {
   EXPECT_LT(summary.rms_m, 2e-3);
 }
 
-TEST(PivotCalibTest, SpinningWithoutTiltIsDegenerate) {
-  const PivotData data = MakePivotData(40, 0, 90, false, 4);
+// The calibration refuses `data` with a message containing `reason`.
+void ExpectRefused(const PivotData& data, const std::string& reason) {
   PivotSummary summary;
   std::string error;
   EXPECT_FALSE(
       CalibratePivot(PivotOptions(), data.cam_from_pen, &summary, &error));
-  EXPECT_NE(error.find("degenerate motion"), std::string::npos) << error;
+  EXPECT_NE(error.find(reason), std::string::npos) << error;
+}
+
+TEST(PivotCalibTest, SpinningWithoutTiltIsDegenerate) {
+  ExpectRefused(MakePivotData(40, 0, 90, false, 4), "degenerate motion");
 }
 
 TEST(PivotCalibTest, RotationAboutOneAxisIsDegenerate) {
-  const PivotData data = MakePivotData(40, 30, 0, true, 5);
-  PivotSummary summary;
-  std::string error;
-  EXPECT_FALSE(
-      CalibratePivot(PivotOptions(), data.cam_from_pen, &summary, &error));
-  EXPECT_NE(error.find("degenerate motion"), std::string::npos) << error;
+  ExpectRefused(MakePivotData(40, 30, 0, true, 5), "degenerate motion");
 }
 
 TEST(PivotCalibTest, TooFewViews) {
-  const PivotData data = MakePivotData(5, 30, 90, false, 6);
-  PivotSummary summary;
-  std::string error;
-  EXPECT_FALSE(
-      CalibratePivot(PivotOptions(), data.cam_from_pen, &summary, &error));
-  EXPECT_NE(error.find("too few views"), std::string::npos) << error;
+  ExpectRefused(MakePivotData(5, 30, 90, false, 6), "too few views");
 }
 
 }  // namespace

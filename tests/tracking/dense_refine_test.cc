@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "tests/shipped_data.h"
+#include "tests/tracking/synth_sequence.h"
 #include "tracking/synth/synth.h"
 
 namespace ripple::tracking {
@@ -90,15 +91,11 @@ Errors PoseErrors(const Pose& a, const Pose& b) {
 void RefineOnPreset(const std::string& preset, Errors* before, Errors* after) {
   const Camera camera = DefaultCamera();
   const Rig rig = test_data::DefaultRig();
-  synth::SequenceOptions seq;
-  seq.preset = preset;
-  seq.frames = 24;
-  seq.segment_frames = 4;
-  seq.seed = 11;
-  std::vector<synth::FrameSpec> specs;
-  std::string error;
-  ASSERT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  const std::vector<synth::FrameSpec> specs =
+      test_data::SynthSpecs(camera, rig, preset, 24, 4, 11);
+  ASSERT_FALSE(specs.empty());
   synth::SceneRenderer renderer(camera, rig);
+  std::string error;
   auto family = TagFamily::Create(rig.family);
   const auto model = DenseTagModel::Create(*family, rig.pen->faces,
                                            DenseRefineOptions{}, &error);

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "tests/shipped_data.h"
+#include "tests/tracking/synth_sequence.h"
 #include "tracking/object_pose.h"
 #include "tracking/synth/synth.h"
 #include "tracking/tracker.h"
@@ -37,14 +38,8 @@ struct CornerErrors {
 CornerErrors MeasureCorners(const std::string& preset, int frames,
                             const Camera& camera, const Rig& rig,
                             const TagDetectorOptions& options) {
-  synth::SequenceOptions seq;
-  seq.preset = preset;
-  seq.frames = frames;
-  seq.segment_frames = 3;
-  seq.seed = 5;
-  std::vector<synth::FrameSpec> specs;
-  std::string error;
-  EXPECT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  const std::vector<synth::FrameSpec> specs =
+      test_data::SynthSpecs(camera, rig, preset, frames, 3, 5);
   synth::SceneRenderer renderer(camera, rig);
   TagDetector detector(options);
   CornerErrors e;
@@ -130,14 +125,9 @@ TEST(SynthTrackTest, CornerBiasOnRayCastFrames) {
 TEST(SynthTrackTest, BenchmarkPresetEndToEnd) {
   const Camera camera = DefaultCamera();
   const Rig rig = DefaultRig();
-  synth::SequenceOptions seq;
-  seq.preset = "benchmark";
-  seq.frames = 60;
-  seq.segment_frames = 20;
-  seq.seed = 3;
-  std::vector<synth::FrameSpec> specs;
-  std::string error;
-  ASSERT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  const std::vector<synth::FrameSpec> specs =
+      test_data::SynthSpecs(camera, rig, "benchmark", 60, 20, 3);
+  ASSERT_FALSE(specs.empty());
   synth::SceneRenderer renderer(camera, rig);
   Tracker tracker(camera, rig, TrackerOptions{});
   std::vector<double> tip_err, tank_rot, tip_sigma;

@@ -51,6 +51,8 @@ endif()
 
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(CAIRO IMPORTED_TARGET cairo)
+# FFTW (single precision) for the water's cosine transforms (sim/).
+pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
 
 if(RIPPLE_BUILD_TESTS)
   find_package(GTest REQUIRED)

@@ -11,7 +11,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libglfw3-dev libegl-dev libgl-dev libosmesa6-dev libgles-dev
   libegl-mesa0 libgl1-mesa-dri mesa-utils
-  libcairo2-dev xvfb xauth
+  libcairo2-dev libfftw3-dev xvfb xauth
 )
 
 missing=()

@@ -11,8 +11,6 @@ namespace {
 
 constexpr double kMinSigmaCells = 0.5;  // sigma >= half a cell
 constexpr double kCutoffSigmas = 4.0;   // exp(-8) ~ 3e-4 beyond
-constexpr int kMaxGridSide = 16384;
-constexpr double kMaxGridCells = 1 << 26;
 
 bool Finite(double v) { return std::isfinite(v); }
 
@@ -223,34 +221,6 @@ Sums SumGrid(int nx, int ny, const T* h0, const T* u0, const T* mask,
 }
 
 }  // namespace
-
-GridSpec GridSpec::ForTank(double size_x_m, double size_y_m,
-                           double rest_level_m, int nx) {
-  GridSpec g;
-  g.nx = nx;
-  g.cell_m = nx > 0 ? size_x_m / nx : 0;
-  const double ny = g.cell_m > 0 ? std::round(size_y_m / g.cell_m) : 0;
-  g.ny = Finite(ny) ? static_cast<int>(std::clamp(ny, 2.0, 1e9)) : 0;
-  g.rest_level_m = rest_level_m;
-  return g;
-}
-
-bool GridSpec::IsValid(std::string* error) const {
-  auto fail = [&](const std::string& m) {
-    if (error) *error = m;
-    return false;
-  };
-  if (nx < 2 || ny < 2 || nx > kMaxGridSide || ny > kMaxGridSide)
-    return fail("grid must be between 2x2 and " + std::to_string(kMaxGridSide) +
-                " cells per side (got " + std::to_string(nx) + "x" +
-                std::to_string(ny) + ")");
-  if (static_cast<double>(nx) * ny > kMaxGridCells)
-    return fail("grid has more than 2^26 cells");
-  if (!Finite(cell_m) || !(cell_m > 0))
-    return fail("cell size must be a positive number of metres");
-  if (!Finite(rest_level_m)) return fail("rest level must be finite");
-  return true;
-}
 
 bool WaterOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& m) {
@@ -890,7 +860,8 @@ int BasicWater<T>::AddObstacle(const Obstacle& obstacle, std::string* error) {
 template <typename T>
 bool BasicWater<T>::SetObstaclePose(int id,
                                     const RigidTransform& tank_from_obstacle) {
-  if (id < 0 || id >= num_obstacles() || !tank_from_obstacle.IsFinite())
+  if (id < 0 || id >= num_obstacles() || !tank_from_obstacle.IsFinite() ||
+      obstacles_[id].removed)
     return false;
   ObstacleState& state = obstacles_[id];
   if (state.obstacle.tank_from_obstacle == tank_from_obstacle) return true;
@@ -915,6 +886,21 @@ bool BasicWater<T>::SetObstaclePose(int id,
     ++counter_;
     wake_pending_ = true;
   }
+  return true;
+}
+
+template <typename T>
+bool BasicWater<T>::RemoveObstacle(int id) {
+  if (id < 0 || id >= num_obstacles() || obstacles_[id].removed) return false;
+  ObstacleState& state = obstacles_[id];
+  ApplyCover(state, -1);
+  state.removed = true;
+  if (UpdateMaskRegion(state.i0, state.i1, state.j0, state.j1)) {
+    ++counter_;
+    wake_pending_ = true;
+  }
+  state.i0 = state.i1 = state.j0 = state.j1 = 0;
+  state.covers.clear();
   return true;
 }
 

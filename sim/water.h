@@ -29,27 +29,12 @@
 #include <string>
 #include <vector>
 
+#include "sim/grid.h"
 #include "sim/height_field.h"
 #include "sim/obstacle.h"
 #include "sim/transform.h"
 
 namespace ripple::sim {
-
-// The grid: nx x ny square cells of edge cell_m, centred on the tank centre
-// (see height_field.h for the cell-centre convention).
-struct GridSpec {
-  int nx = 128;
-  int ny = 83;
-  double cell_m = 0.17 / 128;   // metres
-  double rest_level_m = 0.025;  // rest surface above the floor, metres
-
-  // nx cells along the tank's long side (tank x); ny = round(size_y/cell),
-  // at least 2. Sizes in metres.
-  static GridSpec ForTank(double size_x_m, double size_y_m, double rest_level_m,
-                          int nx);
-  // 2 <= nx, ny <= 16384, nx*ny <= 2^26, finite positive cell, finite level.
-  bool IsValid(std::string* error) const;
-};
 
 enum class WallMode {
   kReflect,  // mirrored (Neumann) walls: waves bounce, volume is conserved
@@ -149,6 +134,11 @@ class BasicWater {
   // Moves obstacle `id`; the mask is recomputed only when the pose differs
   // from the last one. Returns false for an unknown id or non-finite pose.
   bool SetObstaclePose(int id, const RigidTransform& tank_from_obstacle);
+  // Takes obstacle `id` out of the water (its cells become water, as the
+  // treatment gives them); false for an unknown or already removed id. Ids
+  // of the others are kept.
+  bool RemoveObstacle(int id);
+  // Obstacle slots added so far, removed ones included.
   int num_obstacles() const { return static_cast<int>(obstacles_.size()); }
   // Number of grid cells that are water (not blocked by any obstacle).
   int num_water_cells() const { return num_water_; }
@@ -197,6 +187,7 @@ class BasicWater {
     // Cells it covers: bounding region [i0, i1) x [j0, j1) and occupancy.
     int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
     std::vector<std::uint8_t> covers;
+    bool removed = false;
   };
 
   void Rasterize(ObstacleState* state) const;

@@ -1,0 +1,145 @@
+#include "sim/cosine_transform.h"
+
+#include <fftw3.h>
+
+#include <cassert>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <mutex>
+#include <utility>
+#include <vector>
+
+namespace ripple::sim {
+namespace {
+
+std::mutex& PlannerMutex() {
+  static std::mutex m;
+  return m;
+}
+
+struct PlanPair {
+  fftwf_plan synth = nullptr;
+  fftwf_plan analyze = nullptr;
+};
+
+// One pair of plans per size for the life of the process: the planner's
+// measurements cost far more than the transforms.
+PlanPair PlansFor(int nx, int ny) {
+  std::lock_guard<std::mutex> lock(PlannerMutex());
+  static std::map<std::pair<int, int>, PlanPair>* cache =
+      new std::map<std::pair<int, int>, PlanPair>();
+  auto it = cache->find({nx, ny});
+  if (it != cache->end()) return it->second;
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  float* a = fftwf_alloc_real(n);
+  float* b = fftwf_alloc_real(n);
+  PlanPair p;
+  // Row-major ny x nx: the last dimension (x) is contiguous.
+  p.synth =
+      fftwf_plan_r2r_2d(ny, nx, a, b, FFTW_REDFT01, FFTW_REDFT01, FFTW_MEASURE);
+  p.analyze =
+      fftwf_plan_r2r_2d(ny, nx, a, b, FFTW_REDFT10, FFTW_REDFT10, FFTW_MEASURE);
+  fftwf_free(a);
+  fftwf_free(b);
+  assert(p.synth && p.analyze);
+  (*cache)[{nx, ny}] = p;
+  return p;
+}
+
+}  // namespace
+
+AlignedFloats::AlignedFloats(std::size_t n)
+    : data_(fftwf_alloc_real(n > 0 ? n : 1)), size_(n) {
+  Fill(0.0f);
+}
+AlignedFloats::AlignedFloats(AlignedFloats&& o) noexcept
+    : data_(std::exchange(o.data_, nullptr)),
+      size_(std::exchange(o.size_, 0)) {}
+AlignedFloats& AlignedFloats::operator=(AlignedFloats&& o) noexcept {
+  if (this != &o) {
+    if (data_) fftwf_free(data_);
+    data_ = std::exchange(o.data_, nullptr);
+    size_ = std::exchange(o.size_, 0);
+  }
+  return *this;
+}
+AlignedFloats::~AlignedFloats() {
+  if (data_) fftwf_free(data_);
+}
+void AlignedFloats::Fill(float v) {
+  for (std::size_t i = 0; i < size_; ++i) data_[i] = v;
+}
+
+CosineTransform2D::CosineTransform2D(int nx, int ny) : nx_(nx), ny_(ny) {
+  assert(nx >= 1 && ny >= 1);
+  const PlanPair p = PlansFor(nx, ny);
+  synth_plan_ = p.synth;
+  analyze_plan_ = p.analyze;
+}
+
+CosineTransform2D::~CosineTransform2D() = default;
+
+AlignedFloats CosineTransform2D::NewBuffer() const {
+  return AlignedFloats(static_cast<std::size_t>(nx_) * ny_);
+}
+
+void CosineTransform2D::Synthesize(const float* coefficients, float* samples,
+                                   float* scratch) const {
+  // REDFT01: y_i = x_0 + 2 sum_{a>0} x_a cos(pi a (i+1/2)/n), so the a > 0
+  // (and b > 0) coefficients are halved first.
+  const std::size_t nx = nx_;
+  for (int b = 0; b < ny_; ++b) {
+    const float* in = coefficients + b * nx;
+    float* out = scratch + b * nx;
+    const float row = b == 0 ? 1.0f : 0.5f;
+    out[0] = row * in[0];
+    const float rest = 0.5f * row;
+    for (std::size_t a = 1; a < nx; ++a) out[a] = rest * in[a];
+  }
+  fftwf_execute_r2r(static_cast<fftwf_plan>(synth_plan_), scratch, samples);
+}
+
+void CosineTransform2D::Analyze(const float* samples,
+                                float* coefficients) const {
+  // REDFT10: X_a = 2 sum_i x_i cos(pi a (i+1/2)/n); our basis has
+  // sum_i C_a(i)^2 = n (a = 0) or n/2, so X_a/(2n) * (a ? 2 : 1) is the
+  // coefficient; in 2-D the factors multiply.
+  // Out-of-place r2r plans preserve their input (FFTW's default for every
+  // kind but c2r), so the const_cast is safe.
+  fftwf_execute_r2r(static_cast<fftwf_plan>(analyze_plan_),
+                    const_cast<float*>(samples), coefficients);
+  const std::size_t nx = nx_;
+  const float base = 1.0f / (4.0f * nx_ * ny_);
+  for (int b = 0; b < ny_; ++b) {
+    float* c = coefficients + b * nx;
+    const float row = base * (b == 0 ? 1.0f : 2.0f);
+    c[0] *= row;
+    const float rest = 2.0f * row;
+    for (std::size_t a = 1; a < nx; ++a) c[a] *= rest;
+  }
+}
+
+void CosineTransform2D::AnalyzeSparse1D(int n, int first, const float* values,
+                                        int count, float* coefficients) {
+  // cos((a+1) t) = 2 cos(t) cos(a t) - cos((a-1) t): one cosine per sample.
+  std::vector<double> acc(n, 0.0);
+  const double w = M_PI / n;
+  for (int k = 0; k < count; ++k) {
+    const double v = values[k];
+    if (v == 0) continue;
+    const double t = w * (first + k + 0.5);
+    const double two_c = 2 * std::cos(t);
+    double prev = std::cos(t), cur = 1.0;  // cos(-t), cos(0)
+    for (int a = 0; a < n; ++a) {
+      acc[a] += v * cur;
+      const double next = two_c * cur - prev;
+      prev = cur;
+      cur = next;
+    }
+  }
+  for (int a = 0; a < n; ++a)
+    coefficients[a] = static_cast<float>(acc[a] * (a == 0 ? 1.0 : 2.0) / n);
+}
+
+}  // namespace ripple::sim

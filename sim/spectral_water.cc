@@ -70,11 +70,13 @@ inline void PropagateRow(int nx, float* __restrict x, float* __restrict y,
 }
 
 // One sub-step over all modes: the sources, then each mode's propagator.
+// Only the band [0, na) x [0, nb) of the row-major (stride) arrays.
 __attribute__((target_clones("avx2", "default"))) void PropagateModes(
-    int nx, int ny, float* X, float* Y, const float* m11, const float* m12,
-    const float* m21, const float* m22, const Sources& s) {
-  for (int b = 0; b < ny; ++b) {
-    const std::size_t r = static_cast<std::size_t>(b) * nx;
+    int na, int nb, int stride, float* X, float* Y, const float* m11,
+    const float* m12, const float* m21, const float* m22, const Sources& s) {
+  const int nx = na;
+  for (int b = 0; b < nb; ++b) {
+    const std::size_t r = static_cast<std::size_t>(b) * stride;
     const float cv = s.ax ? s.vol * s.by[b] : 0.0f;
     const float ca = s.pa ? s.acc * s.pb[b] : 0.0f;
     const float* w = s.w ? s.w + r : nullptr;
@@ -160,13 +162,22 @@ void SpectralWater::BuildPropagator() {
   CapillaryGravity physics = options_.spectral.physics;
   physics.depth_m = grid_.rest_level_m;
   const double dt = options_.spectral.substep_s;
+  // The simulated band: modes with k <= 2 pi / shortest_wavelength, within
+  // the box [0, band_nx_) x [0, band_ny_) that bounds them.
+  const double k_band = 2 * kPi / options_.spectral.shortest_wavelength_m;
+  const double lx = grid_.nx * grid_.cell_m, ly = grid_.ny * grid_.cell_m;
+  band_nx_ = std::clamp(static_cast<int>(std::floor(k_band * lx / kPi)) + 1, 1,
+                        grid_.nx);
+  band_ny_ = std::clamp(static_cast<int>(std::floor(k_band * ly / kPi)) + 1, 1,
+                        grid_.ny);
   for (int b = 0; b < grid_.ny; ++b) {
     for (int a = 0; a < grid_.nx; ++a) {
       const std::size_t i = static_cast<std::size_t>(b) * grid_.nx + a;
       const double k = ModeWaveNumber(a, b);
       const double w = physics.Omega(k);
-      double m[4];
-      Oscillator(w, physics.DampingRate(k), dt, m);
+      double m[4] = {0, 0, 0, 0};  // out of the band: held at zero
+      if (k <= k_band * (1 + 1e-12))
+        Oscillator(w, physics.DampingRate(k), dt, m);
       m11_[i] = static_cast<float>(m[0]);
       m12_[i] = static_cast<float>(m[1]);
       m21_[i] = static_cast<float>(m[2]);
@@ -433,8 +444,8 @@ void SpectralWater::StepModes(const PenState& next) {
     s.pb = py_.data();
     s.acc = static_cast<float>(-o.pen_strength_m_per_s2 * o.substep_s);
   }
-  PropagateModes(grid_.nx, grid_.ny, X_.data(), Y_.data(), m11_.data(),
-                 m12_.data(), m21_.data(), m22_.data(), s);
+  PropagateModes(band_nx_, band_ny_, grid_.nx, X_.data(), Y_.data(),
+                 m11_.data(), m12_.data(), m21_.data(), m22_.data(), s);
   if (s.pa && !s.w) Y_[0] = 0;  // the push's uniform compensation
   pen_ = next;
   pen_volume_m3_ = pen_.volume_m3;
@@ -486,6 +497,18 @@ void SpectralWater::ImposeBoundaries() {
   }
   transform_.Analyze(h_.data(), X_.data());
   transform_.Analyze(v_.data(), Y_.data());
+  ClearOutOfBand();
+}
+
+void SpectralWater::ClearOutOfBand() {
+  const std::size_t nx = grid_.nx;
+  for (int b = 0; b < grid_.ny; ++b) {
+    float* x = X_.data() + b * nx;
+    float* y = Y_.data() + b * nx;
+    const std::size_t from = b < band_ny_ ? band_nx_ : 0;
+    std::fill(x + from, x + nx, 0.0f);
+    std::fill(y + from, y + nx, 0.0f);
+  }
 }
 
 bool SpectralWater::Advance(double dt_frame_s) {
@@ -586,9 +609,9 @@ void SpectralWater::ComputeStats() {
   // square over the cells is 1, 1/2 or 1/4) and a bound on max|dh/dt|.
   double energy = 0, speed = 0;
   const int nx = grid_.nx;
-  for (int b = 0; b < grid_.ny; ++b) {
+  for (int b = 0; b < band_ny_; ++b) {
     const double wb = b == 0 ? 1.0 : 0.5;
-    for (int a = 0; a < nx; ++a) {
+    for (int a = 0; a < band_nx_; ++a) {
       const std::size_t i = static_cast<std::size_t>(b) * nx + a;
       if (i == 0) continue;
       const double w = wb * (a == 0 ? 1.0 : 0.5);
@@ -659,6 +682,7 @@ bool SpectralWater::SetState(const std::vector<float>& heights_m,
     v_.Fill(0.0f);
   transform_.Analyze(h_.data(), X_.data());
   transform_.Analyze(v_.data(), Y_.data());
+  ClearOutOfBand();
   double vol = 0;
   for (std::size_t c = 0; c < n_; ++c)
     if (water_[c]) vol += heights_m[c];

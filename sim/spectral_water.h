@@ -85,6 +85,9 @@ class SpectralWater final : public WaterSurface {
   // Modal amplitude X_ab (metres) and the wave number of mode (a, b), rad/m.
   double ModeAmplitude(int a, int b) const;
   double ModeWaveNumber(int a, int b) const;
+  // Modes simulated along x and y (the band of shortest_wavelength_m).
+  int band_nx() const { return band_nx_; }
+  int band_ny() const { return band_ny_; }
   // Volume the pen displaces now, m^3.
   double pen_volume_m3() const { return pen_volume_m3_; }
   // Water volume: sum over water cells of h*d^2 minus the pen's displaced
@@ -122,6 +125,8 @@ class SpectralWater final : public WaterSurface {
                           float* out);
   void StepModes(const PenState& next);
   void ImposeBoundaries();
+  // Zeroes the modes outside the simulated band (after an analysis).
+  void ClearOutOfBand();
   void RebuildMask();
   void Synthesize();
   void ComputeStats();
@@ -132,7 +137,9 @@ class SpectralWater final : public WaterSurface {
   WaterModelOptions options_;
   CosineTransform2D transform_;
   std::size_t n_ = 0;
-  AlignedFloats X_, Y_;                   // modal amplitude, m; velocity, m/s
+  int band_nx_ = 1,
+      band_ny_ = 1;      // modes simulated: a < band_nx_, b < band_ny_
+  AlignedFloats X_, Y_;  // modal amplitude, m; velocity, m/s
   AlignedFloats m11_, m12_, m21_, m22_;   // per-mode propagator over substep
   AlignedFloats omega2_;                  // omega^2 per mode, (rad/s)^2
   AlignedFloats h_, v_, scratch_;         // cell domain

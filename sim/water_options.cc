@@ -35,6 +35,8 @@ bool SpectralWaterOptions::IsValid(std::string* error) const {
   if (!physics.IsValid(error)) return false;
   if (!in(substep_s, 1e-6, 0.1) || !(substep_s > 0))
     return fail("sub-step must be in [1e-6, 0.1] s");
+  if (!in(shortest_wavelength_m, 1e-6, 10))
+    return fail("shortest wavelength must be in [1e-6, 10] m");
   if (walls != WallMode::kReflect && walls != WallMode::kAbsorb)
     return fail("unknown wall mode");
   if (!in(sponge_width_m, 0, 10))

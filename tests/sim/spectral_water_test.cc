@@ -34,6 +34,7 @@ WaterModelOptions Options(double nu = 1e-6) {
   o.spectral.physics.kinematic_viscosity_m2_per_s = nu;
   o.spectral.rest_speed_m_per_s = 0;  // never snap in these tests
   o.spectral.rest_height_m = 0;
+  o.spectral.shortest_wavelength_m = 1e-6;  // every mode of the grid
   return o;
 }
 
@@ -324,6 +325,32 @@ TEST(SpectralWaterTest, ObstacleReflectsWaves) {
   EXPECT_LT(beyond, 0.25 * amp);
   // Volume of the channel: 200 x 2 mm; conserved to float rounding.
   EXPECT_NEAR(water->WaterVolume(), v0, 1e-6 * 0.2 * 0.002 * 0.025);
+}
+
+TEST(SpectralWaterTest, BandLimitKeepsLongWavesExact) {
+  // With the default 3 mm band, a 4 mm mode runs exactly as with every mode
+  // simulated, and a 2 mm one is not simulated at all.
+  const int nx = 240, ny = 4;
+  const double d = 0.0005;
+  auto run = [&](double lambda, double shortest) {
+    WaterModelOptions o = Options(1e-6);
+    o.spectral.shortest_wavelength_m = shortest;
+    auto water = Make(Grid(nx, ny, d), o);
+    const int a = static_cast<int>(std::lround(2 * nx * d / lambda));
+    std::vector<float> h(nx * ny);
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        h[j * nx + i] =
+            static_cast<float>(1e-4 * std::cos(kPi * a * (i + 0.5) / nx));
+    water->SetState(h, nullptr);
+    for (int f = 0; f < 7; ++f) water->Advance(1.0 / 30);
+    return std::vector<float>(water->View().heights,
+                              water->View().heights + nx * ny);
+  };
+  const auto band = run(0.004, 0.003), full = run(0.004, 1e-6);
+  for (int i = 0; i < nx * ny; ++i) ASSERT_NEAR(band[i], full[i], 1e-9);
+  const auto cut = run(0.002, 0.003);
+  for (float v : cut) ASSERT_NEAR(v, 0.0f, 1e-9);
 }
 
 TEST(SpectralWaterTest, ThinObstaclesStayBounded) {

@@ -1,4 +1,4 @@
-// Issue 6's passes on EGL (llvmpipe in CI): shadow on and off, caustics from
+// The effects passes on EGL (llvmpipe in CI): shadow on and off, caustics from
 // a single ripple, the pen dipped into the water (its phantom hides the
 // water in front of it), and the redraw-only-when-changed rules.
 #include <gtest/gtest.h>

@@ -67,7 +67,9 @@ struct CausticsWorkspace {
 // > 1 focused light. `light_in_tank` points towards the light (normalised
 // inside, must have z > 0). The surface is the height field's cell-corner
 // mesh (corner heights averaged from the adjacent cells) covering the whole
-// field; null heights mean flat water. Returns false on invalid options.
+// field. Null or empty heights (or a non-positive cell size) mean flat water
+// and give the uniform map of 1 (and no triangles in the summary). Returns
+// false on invalid options or a light at or below the horizon (map of 0).
 bool ComputeCaustics(const CausticsOptions& options,
                      const HeightFieldView& water, const TankGeometry& tank,
                      const glm::dvec3& light_in_tank, std::vector<float>* map,

@@ -24,17 +24,12 @@ bool LoadGl(GlProcGetter get_proc, std::string* error) {
 }
 
 bool CheckGlError(const char* where) {
-#ifndef NDEBUG
   bool ok = true;
   for (GLenum e = glGetError(); e != GL_NO_ERROR; e = glGetError()) {
     std::fprintf(stderr, "ripple render: GL error 0x%04x at %s\n", e, where);
     ok = false;
   }
   return ok;
-#else
-  (void)where;
-  return true;
-#endif
 }
 
 }  // namespace ripple::render

@@ -15,12 +15,13 @@
 
 #include "render/gl_loader.h"
 
-// X(type, name): every GL entry point render/ uses.
+// X(type, name): every GL entry point render/ calls, and only those: LoadGl
+// fails if any is missing, so an entry nothing calls would refuse a driver
+// for no reason.
 #define RIPPLE_GL_FUNCTIONS(X)                                   \
   X(PFNGLACTIVETEXTUREPROC, glActiveTexture)                     \
   X(PFNGLATTACHSHADERPROC, glAttachShader)                       \
   X(PFNGLBEGINQUERYPROC, glBeginQuery)                           \
-  X(PFNGLBINDATTRIBLOCATIONPROC, glBindAttribLocation)           \
   X(PFNGLBINDBUFFERPROC, glBindBuffer)                           \
   X(PFNGLBINDFRAMEBUFFERPROC, glBindFramebuffer)                 \
   X(PFNGLBINDRENDERBUFFERPROC, glBindRenderbuffer)               \
@@ -40,7 +41,6 @@
   X(PFNGLCOMPILESHADERPROC, glCompileShader)                     \
   X(PFNGLCREATEPROGRAMPROC, glCreateProgram)                     \
   X(PFNGLCREATESHADERPROC, glCreateShader)                       \
-  X(PFNGLCULLFACEPROC, glCullFace)                               \
   X(PFNGLDELETEBUFFERSPROC, glDeleteBuffers)                     \
   X(PFNGLDELETEFRAMEBUFFERSPROC, glDeleteFramebuffers)           \
   X(PFNGLDELETEPROGRAMPROC, glDeleteProgram)                     \
@@ -59,7 +59,6 @@
   X(PFNGLENABLEVERTEXATTRIBARRAYPROC, glEnableVertexAttribArray) \
   X(PFNGLENDQUERYPROC, glEndQuery)                               \
   X(PFNGLFINISHPROC, glFinish)                                   \
-  X(PFNGLFLUSHPROC, glFlush)                                     \
   X(PFNGLFRAMEBUFFERRENDERBUFFERPROC, glFramebufferRenderbuffer) \
   X(PFNGLFRAMEBUFFERTEXTURE2DPROC, glFramebufferTexture2D)       \
   X(PFNGLGENBUFFERSPROC, glGenBuffers)                           \
@@ -72,7 +71,6 @@
   X(PFNGLGETINTEGERVPROC, glGetIntegerv)                         \
   X(PFNGLGETPROGRAMINFOLOGPROC, glGetProgramInfoLog)             \
   X(PFNGLGETPROGRAMIVPROC, glGetProgramiv)                       \
-  X(PFNGLGETQUERYOBJECTIVPROC, glGetQueryObjectiv)               \
   X(PFNGLGETQUERYOBJECTUI64VPROC, glGetQueryObjectui64v)         \
   X(PFNGLGETSHADERINFOLOGPROC, glGetShaderInfoLog)               \
   X(PFNGLGETSHADERIVPROC, glGetShaderiv)                         \
@@ -91,14 +89,12 @@
   X(PFNGLSTENCILMASKPROC, glStencilMask)                         \
   X(PFNGLSTENCILOPPROC, glStencilOp)                             \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                           \
-  X(PFNGLTEXPARAMETERFVPROC, glTexParameterfv)                   \
   X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                     \
   X(PFNGLTEXSUBIMAGE2DPROC, glTexSubImage2D)                     \
   X(PFNGLUNIFORM1FPROC, glUniform1f)                             \
   X(PFNGLUNIFORM1IPROC, glUniform1i)                             \
   X(PFNGLUNIFORM2FPROC, glUniform2f)                             \
   X(PFNGLUNIFORM3FPROC, glUniform3f)                             \
-  X(PFNGLUNIFORM3FVPROC, glUniform3fv)                           \
   X(PFNGLUNIFORM4FPROC, glUniform4f)                             \
   X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)               \
   X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                         \
@@ -115,7 +111,6 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glActiveTexture ripple_glActiveTexture
 #define glAttachShader ripple_glAttachShader
 #define glBeginQuery ripple_glBeginQuery
-#define glBindAttribLocation ripple_glBindAttribLocation
 #define glBindBuffer ripple_glBindBuffer
 #define glBindFramebuffer ripple_glBindFramebuffer
 #define glBindRenderbuffer ripple_glBindRenderbuffer
@@ -135,7 +130,6 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glCompileShader ripple_glCompileShader
 #define glCreateProgram ripple_glCreateProgram
 #define glCreateShader ripple_glCreateShader
-#define glCullFace ripple_glCullFace
 #define glDeleteBuffers ripple_glDeleteBuffers
 #define glDeleteFramebuffers ripple_glDeleteFramebuffers
 #define glDeleteProgram ripple_glDeleteProgram
@@ -154,7 +148,6 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glEnableVertexAttribArray ripple_glEnableVertexAttribArray
 #define glEndQuery ripple_glEndQuery
 #define glFinish ripple_glFinish
-#define glFlush ripple_glFlush
 #define glFramebufferRenderbuffer ripple_glFramebufferRenderbuffer
 #define glFramebufferTexture2D ripple_glFramebufferTexture2D
 #define glGenBuffers ripple_glGenBuffers
@@ -167,7 +160,6 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glGetIntegerv ripple_glGetIntegerv
 #define glGetProgramInfoLog ripple_glGetProgramInfoLog
 #define glGetProgramiv ripple_glGetProgramiv
-#define glGetQueryObjectiv ripple_glGetQueryObjectiv
 #define glGetQueryObjectui64v ripple_glGetQueryObjectui64v
 #define glGetShaderInfoLog ripple_glGetShaderInfoLog
 #define glGetShaderiv ripple_glGetShaderiv
@@ -186,14 +178,12 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glStencilMask ripple_glStencilMask
 #define glStencilOp ripple_glStencilOp
 #define glTexImage2D ripple_glTexImage2D
-#define glTexParameterfv ripple_glTexParameterfv
 #define glTexParameteri ripple_glTexParameteri
 #define glTexSubImage2D ripple_glTexSubImage2D
 #define glUniform1f ripple_glUniform1f
 #define glUniform1i ripple_glUniform1i
 #define glUniform2f ripple_glUniform2f
 #define glUniform3f ripple_glUniform3f
-#define glUniform3fv ripple_glUniform3fv
 #define glUniform4f ripple_glUniform4f
 #define glUniformMatrix4fv ripple_glUniformMatrix4fv
 #define glUnmapBuffer ripple_glUnmapBuffer

@@ -15,8 +15,10 @@ using GlProcGetter = void* (*)(const char* name);
 // missing entry point in `error`, if any of them is unavailable.
 bool LoadGl(GlProcGetter get_proc, std::string* error);
 
-// In debug builds (NDEBUG undefined) reports any pending GL error on stderr,
-// tagged with `where`, and returns false; a no-op returning true otherwise.
+// Reports any pending GL error on stderr, tagged with `where`, and returns
+// false; true when there was none. Active in every build type: the renderer
+// calls it once per frame (and per read-back or present), which costs one
+// glGetError.
 bool CheckGlError(const char* where);
 
 }  // namespace ripple::render

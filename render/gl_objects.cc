@@ -52,4 +52,26 @@ bool Program::Build(const std::string& name, const std::string& vertex_source,
   return true;
 }
 
+void AllocTexture(Texture* t, GLint internal_format, int w, int h,
+                  GLenum format, GLenum type, GLenum filter, GLenum wrap,
+                  const void* data) {
+  t->Create();
+  glBindTexture(GL_TEXTURE_2D, t->id());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, filter);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, wrap);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, wrap);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+  glTexImage2D(GL_TEXTURE_2D, 0, internal_format, w, h, 0, format, type, data);
+}
+
+bool AttachColor(Framebuffer* fbo, const Texture& t) {
+  fbo->Create();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo->id());
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                         t.id(), 0);
+  return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
 }  // namespace ripple::render::internal

@@ -74,6 +74,8 @@ class Program {
     id_ = 0;
   }
   GLuint id() const { return id_; }
+  // A uniform's location by name (-1 if the program has none): a string
+  // look-up, so passes call it once after linking and keep the result.
   GLint Uniform(const char* name) const {
     return glGetUniformLocation(id_, name);
   }
@@ -81,6 +83,17 @@ class Program {
  private:
   GLuint id_ = 0;
 };
+
+// Creates `t` as a 2D texture of `w` x `h` with the given filter (min and
+// mag) and wrap (s and t), filled from `data` (tightly packed rows) or left
+// undefined. Leaves it bound to the active unit.
+void AllocTexture(Texture* t, GLint internal_format, int w, int h,
+                  GLenum format, GLenum type, GLenum filter, GLenum wrap,
+                  const void* data = nullptr);
+
+// Creates `fbo` with `t` as its colour attachment; true if complete. Leaves
+// it bound.
+bool AttachColor(Framebuffer* fbo, const Texture& t);
 
 }  // namespace ripple::render::internal
 

@@ -5,10 +5,11 @@
 //      have lens distortion: the output is the ideal pinhole image with the
 //      same fx, fy, cx, cy);
 //   2. upload the height field, only if its change counter moved;
-//   3. shadow pass, only if an occluder moved or the light changed (issue 6);
-//   4. caustics on the CPU, only if the surface or the light changed (issue 6);
+//   3. shadow pass, only if an occluder moved or the light changed;
+//   4. caustics on the CPU, only if the surface or the light changed;
 //   5. main pass into an FBO: video background, obstacles, pen phantom in
 //      depth, water surface, glass walls.
+// Each step is a pass of its own (render/pass_*.h) with its redraw key.
 // Nothing is read back unless ReadBgr() is called.
 //
 // Typical use, once per camera frame:
@@ -113,7 +114,7 @@ class Renderer {
   const RendererOptions& options() const;
 
   // Draws one frame into the renderer's FBO. False (with a message on
-  // stderr in debug builds) if GL reported an error.
+  // stderr, in every build type) if GL reported an error.
   bool Render(const SceneInputs& scene);
 
   // Draws only the video into the FBO: the background of Render(),

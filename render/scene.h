@@ -62,9 +62,9 @@ struct Effects {
   bool reflection = true;
   bool refraction = true;
   bool walls = true;
-  bool shadows = true;       // shadow map (issue 6)
-  bool caustics = true;      // Nishita-Nakamae caustics map (issue 6)
-  bool pen_occludes = true;  // pen phantom in depth (issue 6)
+  bool shadows = true;       // shadow map
+  bool caustics = true;      // Nishita-Nakamae caustics map
+  bool pen_occludes = true;  // pen phantom in depth
   // Debugging and registration checks: the water in one flat colour.
   bool flat_water = false;
 };

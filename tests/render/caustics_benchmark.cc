@@ -1,6 +1,6 @@
 // The CPU caustics kernel: an N x N surface into a 256 x 256 map, one core
-// (threads = 1) unless the second argument says otherwise. The issue's
-// target is N = 128 in <= 1 ms on one core.
+// (threads = 1) unless the second argument says otherwise. The target
+// is N = 128 in <= 1 ms on one core.
 //
 //   build-render/tests/render/render_caustics_benchmark
 #include <benchmark/benchmark.h>

@@ -57,6 +57,30 @@ TEST(CausticsTest, FlatWaterUnderVerticalLightIsUniform) {
   EXPECT_LT(sum.flux_outside, 0.005 * sum.flux_in);
 }
 
+// Without a height field (null, or an empty size) the surface is flat by
+// definition, so the map is the flat-water map: uniform 1, not 0, whatever
+// the light.
+TEST(CausticsTest, MissingHeightFieldGivesTheFlatMap) {
+  const std::vector<float> h(16, 0.0f);
+  const HeightFieldView null_field;
+  const HeightFieldView empty_field = {h.data(), 0, 0, 0.001f, 1};
+  const HeightFieldView no_cell_size = {h.data(), 4, 4, 0.0f, 1};
+  for (const HeightFieldView& view : {null_field, empty_field, no_cell_size}) {
+    for (const glm::dvec3& light :
+         {glm::dvec3(0, 0, 1), glm::dvec3(0.35, 0.25, 1.0)}) {
+      std::vector<float> map;
+      CausticsSummary sum;
+      ASSERT_TRUE(ComputeCaustics({}, view, TankGeometry{}, light, &map, &sum));
+      ASSERT_EQ(map.size(), 256u * 256u);
+      const auto [lo, hi] = std::minmax_element(map.begin(), map.end());
+      EXPECT_EQ(*lo, 1.0f);
+      EXPECT_EQ(*hi, 1.0f);
+      EXPECT_NEAR(sum.flux_deposited, sum.flux_in, 1e-12);
+      EXPECT_EQ(sum.flux_outside, 0.0);
+    }
+  }
+}
+
 // Oblique light shifts the lit area by level * tan(refracted angle) away
 // from the light; outside the unlit strip along the walls nearest the light
 // the map stays uniform.

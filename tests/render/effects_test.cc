@@ -1,6 +1,7 @@
-// Issue 6's passes on EGL (llvmpipe in CI): shadow on and off, caustics from
+// The effects passes on EGL (llvmpipe in CI): shadow on and off, caustics from
 // a single ripple, the pen dipped into the water (its phantom hides the
-// water in front of it), and the redraw-only-when-changed rules.
+// water in front of it), the redraw-only-when-changed rules, and the GL
+// state every pass returns to.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "render/gl.h"
 #include "render/renderer.h"
 #include "tests/render/golden.h"
 #include "tests/render/render_test_util.h"
@@ -170,6 +172,53 @@ TEST(EffectsTest, RedrawsOnlyWhenInputsChange) {
   in.pen_visible = false;  // pen leaves the view
   ASSERT_TRUE(r->Render(in));
   EXPECT_TRUE(r->timings().shadow_redrawn);
+}
+
+// Without a height field the water is flat, and flat water's caustics map
+// is uniform 1: turning caustics on must not darken the floor to the
+// shadow's ambient level.
+TEST(EffectsTest, FlatWaterCausticsLeaveTheFloorLit) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = MakeScene(kW, kH, View::kFront, false);
+  s.inputs.water = HeightFieldView{};
+  s.inputs.effects.shadows = false;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.effects.caustics = true;
+  const cv::Mat on = RenderScene(r.get(), s.inputs);
+  EXPECT_TRUE(r->timings().caustics_recomputed);
+  s.inputs.effects.caustics = false;
+  const cv::Mat off = RenderScene(r.get(), s.inputs);
+  cv::Mat d;
+  cv::absdiff(on, off, d);
+  double max_diff = 0;
+  cv::minMaxLoc(d.reshape(1), nullptr, &max_diff);
+  EXPECT_LE(max_diff, 1.0);
+}
+
+// Every pass returns the capabilities and write masks it changed to GL's
+// defaults (gl_state.h), so no pass depends on what another left behind.
+TEST(EffectsTest, PassesLeaveTheGlStateAtRest) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  s.inputs.effects.caustics = true;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  ASSERT_TRUE(r->Render(s.inputs));
+  ASSERT_TRUE(r->timings().shadow_redrawn);
+  for (GLenum cap : {GL_DEPTH_TEST, GL_STENCIL_TEST, GL_SCISSOR_TEST, GL_BLEND,
+                     GL_POLYGON_OFFSET_FILL}) {
+    GLint on = -1;
+    glGetIntegerv(cap, &on);
+    EXPECT_EQ(on, 0) << "capability 0x" << std::hex << cap;
+  }
+  GLint depth_write = 0, stencil_write = 0, color_write[4] = {0, 0, 0, 0};
+  glGetIntegerv(GL_DEPTH_WRITEMASK, &depth_write);
+  glGetIntegerv(GL_STENCIL_WRITEMASK, &stencil_write);
+  glGetIntegerv(GL_COLOR_WRITEMASK, color_write);
+  EXPECT_EQ(depth_write, GL_TRUE);
+  EXPECT_EQ(stencil_write & 0xff, 0xff);
+  for (GLint c : color_write) EXPECT_EQ(c, GL_TRUE);
 }
 
 }  // namespace

@@ -1,7 +1,8 @@
 // Whole-frame cost on the GL backends (EGL/llvmpipe headless by default):
 // 640x480 output, a 128x128 simulation over a 17 cm square tank. Each
 // iteration renders and waits for the GPU (glFinish); readback is measured
-// separately. LP_NUM_THREADS=2 reproduces the issue's "2 cores".
+// separately. LP_NUM_THREADS=2 reproduces the
+// target machine's 2 cores.
 //
 //   build/tests/render/render_frame_benchmark
 //
@@ -86,8 +87,8 @@ std::unique_ptr<Fixture> Make(benchmark::State& state, Backend backend,
 
 // What changes between frames.
 enum Mode : int {
-  kMainOnly = 0,   // issue 5: shadow and caustics off, water changes
-  kFullChanging,   // issue 6: all passes, water and pen change every frame
+  kMainOnly = 0,   // shadow and caustics off, water changes
+  kFullChanging,   // all passes, water and pen change every frame
   kFullIdle,       // water at rest, pen still: shadow/caustics skipped
   kMainDistorted,  // kMainOnly through a lens with distortion
 };

@@ -24,7 +24,7 @@ constexpr int kW = 320, kH = 240;
 
 using testing::RenderScene;
 
-// Issue 5's golden images: effects of issue 6 (shadow, caustics) off.
+// The core golden images: the main pass alone, shadow and caustics off.
 SceneInputs CoreOnly(SceneInputs in) {
   in.effects.shadows = false;
   in.effects.caustics = false;
@@ -106,7 +106,7 @@ double EdgeOffset(const cv::Mat& covered, cv::Point2d p0, cv::Point2d p1,
 // Registration on a rendered synthetic frame: over a black video with the
 // walls off, the flat water (drawn in one flat colour) is exactly the
 // tank's inner rectangle at the rest level. Its edges must lie within 0.25 px
-// of cv::projectPoints' corners (the issue asks 0.5 px; a half-pixel
+// of cv::projectPoints' corners (the requirement is 0.5 px; a half-pixel
 // convention error shows up as ~0.5 px on steep edges).
 TEST_F(RenderTest, RenderedTankEdgesMatchProjection) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);

@@ -1,0 +1,105 @@
+#include "render/frame_state.h"
+
+#include <algorithm>
+#include <cmath>
+#include <glm/gtc/type_ptr.hpp>
+
+namespace ripple::render::internal {
+
+FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k) {
+  FrameState f;
+  f.scene = &scene;
+  f.k = &k;
+  f.clip_from_tank = ClipFromCam(k) * scene.cam_from_tank;
+  f.tank_from_cam = glm::inverse(scene.cam_from_tank);
+  f.cam_in_tank = f.tank_from_cam[3];
+  f.light = glm::normalize(scene.light_in_tank);
+  glm::dvec3 lr = glm::refract(-f.light, glm::dvec3(0, 0, 1), 1.0 / 1.33);
+  if (lr.z > -1e-3) lr = glm::dvec3(0, 0, -1);
+  f.light_refracted = lr;
+  return f;
+}
+
+void CommonUniforms::Resolve(const Program& p) {
+  clip_from_tank_ = p.Uniform("u_clip_from_tank");
+  cam_from_tank_ = p.Uniform("u_cam_from_tank");
+  tank_from_cam_ = p.Uniform("u_tank_from_cam");
+  intr_ = p.Uniform("u_intr");
+  image_size_ = p.Uniform("u_image_size");
+  cam_in_tank_ = p.Uniform("u_cam_in_tank");
+  tank_ = p.Uniform("u_tank");
+  hf_extent_ = p.Uniform("u_hf_extent");
+  hf_texel_ = p.Uniform("u_hf_texel");
+  light_ = p.Uniform("u_light");
+  light_refracted_ = p.Uniform("u_light_refracted");
+  shadow_from_tank_ = p.Uniform("u_shadow_from_tank");
+  shadow_on_ = p.Uniform("u_shadow_on");
+  shadow_texel_ = p.Uniform("u_shadow_texel");
+  shadow_bias_ = p.Uniform("u_shadow_bias");
+  glUseProgram(p.id());
+  const struct {
+    const char* name;
+    int unit;
+  } samplers[] = {
+      {"u_height", kUnitHeight},         {"u_shadow", kUnitShadow},
+      {"u_caustics", kUnitCaustics},     {"u_scene", kUnitScene},
+      {"u_reflection", kUnitReflection}, {"u_receiver", kUnitReceiver}};
+  for (const auto& s : samplers) glUniform1i(p.Uniform(s.name), s.unit);
+}
+
+void CommonUniforms::Set(const Program& p, const FrameState& f,
+                         const glm::dmat4& clip_from_tank) const {
+  const SceneInputs& scene = *f.scene;
+  const Intrinsics& k = *f.k;
+  glUseProgram(p.id());
+  SetUniform(clip_from_tank_, clip_from_tank);
+  SetUniform(cam_from_tank_, scene.cam_from_tank);
+  SetUniform(tank_from_cam_, f.tank_from_cam);
+  glUniform4f(intr_, k.fx, k.fy, k.cx, k.cy);
+  glUniform2f(image_size_, k.width, k.height);
+  SetUniform(cam_in_tank_, f.cam_in_tank);
+  const TankGeometry& t = scene.tank;
+  glUniform4f(tank_, t.size_x, t.size_y, t.wall_height, t.water_level);
+  glUniform2f(hf_extent_, f.height.extent.x, f.height.extent.y);
+  glUniform2f(hf_texel_, f.height.texel.x, f.height.texel.y);
+  SetUniform(light_, f.light);
+  SetUniform(light_refracted_, f.light_refracted);
+  SetUniform(shadow_from_tank_, f.shadow.shadow_from_tank);
+  glUniform1f(shadow_on_, scene.effects.shadows ? 1.f : 0.f);
+  glUniform2f(shadow_texel_, f.shadow.texel.x, f.shadow.texel.y);
+  glUniform1f(shadow_bias_, f.shadow.bias);
+}
+
+void SetUniform(GLint location, const glm::dmat4& m) {
+  const glm::mat4 f(m);
+  glUniformMatrix4fv(location, 1, GL_FALSE, glm::value_ptr(f));
+}
+void SetUniform(GLint location, const glm::vec3& v) {
+  glUniform3f(location, v.x, v.y, v.z);
+}
+void SetUniform(GLint location, const glm::dvec3& v) {
+  SetUniform(location, glm::vec3(v));
+}
+
+glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
+                   double size_y, double z0, double z1, int pad, int width,
+                   int height) {
+  glm::dvec2 lo(1e9), hi(-1e9);
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 p((i & 1 ? 0.5 : -0.5) * size_x,
+                       (i & 2 ? 0.5 : -0.5) * size_y, i & 4 ? z1 : z0, 1.0);
+    const glm::dvec4 c = clip_from_tank * p;
+    if (c.w <= 1e-6) return {0, 0, width, height};
+    const glm::dvec2 win = WindowFromClip(c, width, height);
+    lo = glm::min(lo, win);
+    hi = glm::max(hi, win);
+  }
+  const int x0 = std::clamp(static_cast<int>(std::floor(lo.x)) - pad, 0, width);
+  const int y0 =
+      std::clamp(static_cast<int>(std::floor(lo.y)) - pad, 0, height);
+  const int x1 = std::clamp(static_cast<int>(std::ceil(hi.x)) + pad, 0, width);
+  const int y1 = std::clamp(static_cast<int>(std::ceil(hi.y)) + pad, 0, height);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+}  // namespace ripple::render::internal

@@ -1,0 +1,93 @@
+// What the passes of one frame share (internal to render/): values derived
+// once per frame from the scene and the camera, the textures earlier passes
+// produced, and the uniforms of common.glsl, whose locations every program
+// resolves once at link time.
+#ifndef RIPPLE_RENDER_FRAME_STATE_H_
+#define RIPPLE_RENDER_FRAME_STATE_H_
+
+#include <glm/glm.hpp>
+
+#include "render/camera.h"
+#include "render/gl.h"
+#include "render/gl_objects.h"
+#include "render/scene.h"
+
+namespace ripple::render::internal {
+
+// Texture units, fixed for every program (sampler uniforms are set once,
+// when a program is linked).
+enum TextureUnit : int {
+  kUnitHeight = 0,
+  kUnitShadow = 1,
+  kUnitCaustics = 2,
+  kUnitScene = 3,
+  kUnitReflection = 4,
+  kUnitVideo = 5,
+  kUnitReceiver = 7,
+  kUnitOverlay = 8,
+};
+
+// The height texture's mapping (HeightTexturePass).
+struct HeightFieldInfo {
+  glm::vec2 extent{1.0f};  // metres covered by the texture in x, y
+  glm::vec2 texel{1.0f};   // 1 / texels in x, y
+};
+
+// Tank frame -> shadow map texture coordinates and its sampling constants
+// (ShadowPass).
+struct ShadowTransform {
+  glm::dmat4 shadow_from_tank{1.0};
+  float bias = 0;         // depth units of the map
+  glm::vec2 texel{0.0f};  // PCF tap offset, texture units
+};
+
+// Per-frame values, computed once by the renderer.
+struct FrameState {
+  const SceneInputs* scene = nullptr;
+  const Intrinsics* k = nullptr;
+  glm::dmat4 clip_from_tank{1.0};
+  glm::dmat4 tank_from_cam{1.0};
+  glm::dvec3 cam_in_tank{0.0};
+  glm::dvec3 light{0.0, 0.0, 1.0};             // unit, towards the light
+  glm::dvec3 light_refracted{0.0, 0.0, -1.0};  // under a flat surface
+  HeightFieldInfo height;
+  ShadowTransform shadow;
+};
+
+FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k);
+
+// The uniforms of common.glsl in one program.
+class CommonUniforms {
+ public:
+  // Resolves the locations and sets the sampler units; `p` must be linked.
+  // Leaves `p` bound.
+  void Resolve(const Program& p);
+  // Binds the program and sets the per-frame values; `clip_from_tank` is
+  // the program's own projection (the camera's, or the identity for
+  // full-screen passes).
+  void Set(const Program& p, const FrameState& f,
+           const glm::dmat4& clip_from_tank) const;
+
+ private:
+  GLint clip_from_tank_ = -1, cam_from_tank_ = -1, tank_from_cam_ = -1,
+        intr_ = -1, image_size_ = -1, cam_in_tank_ = -1, tank_ = -1,
+        hf_extent_ = -1, hf_texel_ = -1, light_ = -1, light_refracted_ = -1,
+        shadow_from_tank_ = -1, shadow_on_ = -1, shadow_texel_ = -1,
+        shadow_bias_ = -1;
+};
+
+// glUniform wrappers for glm types (location -1 is ignored, as by GL).
+void SetUniform(GLint location, const glm::dmat4& m);
+void SetUniform(GLint location, const glm::vec3& v);
+void SetUniform(GLint location, const glm::dvec3& v);
+
+// Window rectangle (x, y, w, h) of a centred box in the tank frame (x, y
+// sizes, z from z0 to z1), grown by `pad` pixels and clipped to the window;
+// the whole window when a corner is behind the camera.
+glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
+                   double size_y, double z0, double z1, int pad, int width,
+                   int height);
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_FRAME_STATE_H_

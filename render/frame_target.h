@@ -1,0 +1,39 @@
+// The renderer's output (internal to render/): an FBO of colour (RGBA8) and
+// depth-stencil renderbuffers at the intrinsics' size, holding the image top
+// row first (GL row 0 = image row 0), and its read-back to BGR8.
+#ifndef RIPPLE_RENDER_FRAME_TARGET_H_
+#define RIPPLE_RENDER_FRAME_TARGET_H_
+
+#include <cstdint>
+#include <string>
+
+#include "render/context.h"
+#include "render/gl_objects.h"
+
+namespace ripple::render::internal {
+
+class FrameTarget {
+ public:
+  void Create();
+  // (Re)allocates at `width` x `height` pixels and clears to black.
+  bool Allocate(int width, int height, std::string* error);
+  // Binds the FBO with its viewport and clears depth and stencil, and the
+  // colour (to black) too unless `keep_color`.
+  void BeginFrame(bool keep_color);
+  // Copies the image as BGR8, top row first, rows of `stride_bytes` (0 =
+  // width * 3). Uses OSMesa's own buffer when `context` has one of the
+  // output's size, a pixel-pack buffer otherwise. Blocks until done.
+  bool ReadBgr(const Context& context, std::uint8_t* bgr, int stride_bytes);
+
+  GLuint fbo() const { return fbo_.id(); }
+
+ private:
+  int width_ = 0, height_ = 0;
+  Framebuffer fbo_;
+  Renderbuffer color_rb_, depth_rb_;
+  Buffer pbo_;
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_FRAME_TARGET_H_

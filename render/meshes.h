@@ -1,0 +1,62 @@
+// The solid meshes the passes share (internal to render/): the unit box and
+// cylinder that obstacles and the pen are drawn from, and the tank's four
+// walls. Vertices: attribute 0 position, 1 normal (walls: 2 the wall
+// coordinate), tank or model frame, metres.
+#ifndef RIPPLE_RENDER_MESHES_H_
+#define RIPPLE_RENDER_MESHES_H_
+
+#include <glm/glm.hpp>
+#include <optional>
+
+#include "render/gl_objects.h"
+#include "render/scene.h"
+
+namespace ripple::render::internal {
+
+struct Mesh {
+  VertexArray vao;
+  Buffer vbo;
+  int count = 0;  // vertices, drawn as GL_TRIANGLES
+};
+
+// Locations of solid.vert's model transforms in one program.
+struct ModelUniforms {
+  GLint tank_from_model = -1;
+  GLint clip_from_model = -1;
+  void Resolve(const Program& p);
+};
+
+// The glass walls as 4 x 6 vertices (wall i: vertices 6i..6i+5; walls run
+// counter-clockwise seen from above, starting with the -y wall). Rebuilt
+// only when the tank geometry changes (its redraw key).
+class TankWallsMesh {
+ public:
+  void Create();
+  void Update(const TankGeometry& tank);
+  GLuint vao() const { return vao_.id(); }
+
+ private:
+  VertexArray vao_;
+  Buffer vbo_;
+  std::optional<TankGeometry> tank_;
+};
+
+class SolidMeshes {
+ public:
+  void Create();
+  // Draws the scene's obstacles and/or the pen (cube and shaft) and/or the
+  // walls with the bound program `p` (solid.vert) projected by
+  // `clip_from_tank`.
+  void Draw(const SceneInputs& scene, const ModelUniforms& p,
+            const glm::dmat4& clip_from_tank, bool obstacles, bool pen,
+            const TankWallsMesh* walls) const;
+
+ private:
+  Mesh box_, cylinder_;
+};
+
+bool SameTank(const TankGeometry& a, const TankGeometry& b);
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_MESHES_H_

@@ -1,0 +1,52 @@
+#include "render/pass_caustics.h"
+
+#include <chrono>
+
+#include "render/meshes.h"
+
+namespace ripple::render::internal {
+
+CausticsKey CausticsKey::Of(const SceneInputs& scene) {
+  CausticsKey k;
+  if (scene.water.heights != nullptr) k.counter = scene.water.change_counter;
+  k.light = glm::normalize(scene.light_in_tank);
+  k.tank = scene.tank;
+  return k;
+}
+
+bool CausticsKey::Same(const CausticsKey& o) const {
+  return SameTank(tank, o.tank) && counter == o.counter &&
+         glm::length(light - o.light) < 1e-9;
+}
+
+void CausticsPass::Create(const Options& options) {
+  options_ = options;
+  const int c = options.map_size;
+  map_.assign(static_cast<size_t>(c) * c, 1.0f);
+  AllocTexture(&texture_, GL_R32F, c, c, GL_RED, GL_FLOAT, GL_LINEAR,
+               GL_CLAMP_TO_EDGE, map_.data());
+  key_.reset();
+}
+
+bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
+  const CausticsKey key = CausticsKey::Of(scene);
+  if (key_ && key_->Same(key)) return false;
+  const auto t0 = std::chrono::steady_clock::now();
+  CausticsOptions co;
+  co.map_nx = co.map_ny = options_.map_size;
+  co.threads = options_.threads;
+  co.attenuation_per_m = options_.attenuation_per_m;
+  ComputeCaustics(co, scene.water, scene.tank, key.light, &map_, nullptr,
+                  &workspace_);
+  glBindTexture(GL_TEXTURE_2D, texture_.id());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, co.map_nx, co.map_ny, GL_RED,
+                  GL_FLOAT, map_.data());
+  key_ = key;
+  *ms = std::chrono::duration<double, std::milli>(
+            std::chrono::steady_clock::now() - t0)
+            .count();
+  return true;
+}
+
+}  // namespace ripple::render::internal

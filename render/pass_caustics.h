@@ -1,0 +1,55 @@
+// Caustics pass (internal to render/): drives ComputeCaustics on the CPU and
+// uploads the floor irradiance map (relative to flat water) as a texture.
+//
+// Redraw key (CausticsKey): the height field's change counter (or "flat"
+// for null heights), the light direction and the tank geometry.
+#ifndef RIPPLE_RENDER_PASS_CAUSTICS_H_
+#define RIPPLE_RENDER_PASS_CAUSTICS_H_
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <vector>
+
+#include "render/caustics.h"
+#include "render/gl_objects.h"
+#include "render/scene.h"
+
+namespace ripple::render::internal {
+
+struct CausticsKey {
+  std::optional<std::uint64_t> counter;  // nullopt: flat water
+  glm::dvec3 light{0.0};                 // unit
+  TankGeometry tank;
+
+  static CausticsKey Of(const SceneInputs& scene);
+  bool Same(const CausticsKey& o) const;
+};
+
+class CausticsPass {
+ public:
+  struct Options {
+    int map_size = 256;  // texels per side, over the tank floor
+    int threads = 2;     // CPU threads of ComputeCaustics
+    // Mean absorption of the water (1/m): light loses it on its way down
+    // (Nishita's attenuation along the refracted path).
+    double attenuation_per_m = 0.0;
+  };
+  void Create(const Options& options);
+
+  // Recomputes and uploads the map if its key changed; true if it did, with
+  // the CPU time in `ms`.
+  bool Update(const SceneInputs& scene, double* ms);
+  GLuint texture() const { return texture_.id(); }
+
+ private:
+  Options options_;
+  Texture texture_;
+  std::vector<float> map_;
+  CausticsWorkspace workspace_;
+  std::optional<CausticsKey> key_;
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_PASS_CAUSTICS_H_

@@ -1,0 +1,42 @@
+// Height texture pass (internal to render/): the simulated surface as an
+// RGBA16F texture of (h, dh/dx, dh/dy) per cell, which the water shaders
+// sample for heights and normals.
+//
+// Redraw key: the field's size and change counter; null heights key "flat"
+// (a 1 x 1 texture of zero over the tank).
+#ifndef RIPPLE_RENDER_PASS_HEIGHT_H_
+#define RIPPLE_RENDER_PASS_HEIGHT_H_
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <optional>
+#include <vector>
+
+#include "render/frame_state.h"
+#include "render/gl_objects.h"
+#include "render/scene.h"
+
+namespace ripple::render::internal {
+
+class HeightTexturePass {
+ public:
+  void Create();
+  // Uploads the field if its key changed; true if it did.
+  bool Update(const SceneInputs& scene);
+  // The texture's mapping for the frame Update() last saw.
+  HeightFieldInfo info() const;
+  GLuint texture() const { return texture_.id(); }
+
+ private:
+  void AllocateFlat();
+
+  Texture texture_;
+  int nx_ = 0, ny_ = 0;                   // texels
+  std::optional<std::uint64_t> counter_;  // nullopt: flat
+  glm::vec2 extent_{1.0f};                // metres
+  std::vector<glm::vec4> slopes_;         // upload buffer: h, dh/dx, dh/dy
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_PASS_HEIGHT_H_

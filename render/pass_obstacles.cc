@@ -1,0 +1,70 @@
+#include "render/pass_obstacles.h"
+
+#include <algorithm>
+
+#include "render/gl_state.h"
+#include "render/shaders.h"
+
+namespace ripple::render::internal {
+
+bool ObstaclesPass::Create(const Options& options, std::string* error) {
+  if (!BuildProgram(&solid_[0], "solid", "solid.vert", "solid.frag", "",
+                    error) ||
+      !BuildProgram(&solid_[1], "shadowed solid", "solid.vert", "solid.frag",
+                    "#define SHADOWS 1\n", error) ||
+      !BuildProgram(&depth_, "depth", "solid.vert", "depth.frag", "", error)) {
+    return false;
+  }
+  for (int i = 0; i < 2; ++i) {
+    solid_common_[i].Resolve(solid_[i]);  // leaves solid_[i] bound
+    solid_model_[i].Resolve(solid_[i]);
+    SetUniform(solid_[i].Uniform("u_albedo"), options.albedo);
+  }
+  depth_model_.Resolve(depth_);
+  return true;
+}
+
+bool ObstaclesPass::AllocateOutput(int width, int height) {
+  AllocTexture(&scene_copy_tex_, GL_RGBA8, width, height, GL_RGBA,
+               GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
+  return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
+}
+
+void ObstaclesPass::Draw(const FrameState& f, GLuint target,
+                         const SolidMeshes& solids) {
+  const SceneInputs& scene = *f.scene;
+  GlStateGuard state;
+  state.Enable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  if (!scene.obstacles.empty()) {
+    const int i = scene.effects.shadows ? 1 : 0;
+    solid_common_[i].Set(solid_[i], f, f.clip_from_tank);
+    solids.Draw(scene, solid_model_[i], f.clip_from_tank, true, false, nullptr);
+  }
+  // The water only looks up points inside the tank, so only the tank's
+  // window rectangle (floor to the wall tops, or to the rest level + 1 cm if
+  // higher, padded for linear filtering) is copied.
+  const TankGeometry& t = scene.tank;
+  const glm::ivec4 r =
+      BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
+              std::max<double>(t.wall_height, t.water_level + 0.01), 2,
+              f.k->width, f.k->height);
+  if (r.z > 0 && r.w > 0) {
+    const int x1 = r.x + r.z, y1 = r.y + r.w;
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, target);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, scene_copy_fbo_.id());
+    glBlitFramebuffer(r.x, r.y, x1, y1, r.x, r.y, x1, y1, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+  }
+  glActiveTexture(GL_TEXTURE0 + kUnitScene);
+  glBindTexture(GL_TEXTURE_2D, scene_copy_tex_.id());
+
+  if (scene.pen_visible && scene.effects.pen_occludes) {
+    state.ColorMask(false);
+    glUseProgram(depth_.id());
+    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, nullptr);
+  }
+}
+
+}  // namespace ripple::render::internal

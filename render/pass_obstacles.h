@@ -1,0 +1,46 @@
+// Obstacles pass (internal to render/): draws the virtual obstacles over the
+// video, copies video + obstacles under the tank for the water's refraction,
+// and lays the real pen's depth (a phantom: no colour) so that the pen hides
+// the water where it is in front of it.
+//
+// Redraw key: none (the output is redrawn every frame).
+#ifndef RIPPLE_RENDER_PASS_OBSTACLES_H_
+#define RIPPLE_RENDER_PASS_OBSTACLES_H_
+
+#include <glm/glm.hpp>
+#include <string>
+
+#include "render/frame_state.h"
+#include "render/gl_objects.h"
+#include "render/meshes.h"
+
+namespace ripple::render::internal {
+
+class ObstaclesPass {
+ public:
+  struct Options {
+    glm::vec3 albedo{0.78f, 0.74f, 0.68f};  // linear RGB
+  };
+  bool Create(const Options& options, std::string* error);
+  // (Re)allocates the refraction copy at the output's size.
+  bool AllocateOutput(int width, int height);
+
+  // Draws into `target` (bound, depth cleared); leaves the refraction copy
+  // bound to kUnitScene.
+  void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids);
+
+  GLuint scene_texture() const { return scene_copy_tex_.id(); }
+
+ private:
+  Program solid_[2];  // without, with shadows
+  CommonUniforms solid_common_[2];
+  ModelUniforms solid_model_[2];
+  Program depth_;
+  ModelUniforms depth_model_;
+  Texture scene_copy_tex_;
+  Framebuffer scene_copy_fbo_;
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_PASS_OBSTACLES_H_

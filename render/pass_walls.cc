@@ -1,0 +1,49 @@
+#include "render/pass_walls.h"
+
+#include "render/gl_state.h"
+#include "render/shaders.h"
+
+namespace ripple::render::internal {
+
+bool WallsPass::Create(const Options& options, std::string* error) {
+  if (!BuildProgram(&programs_[0], "walls", "walls.vert", "walls.frag", "",
+                    error) ||
+      !BuildProgram(&programs_[1], "front walls", "walls.vert", "walls.frag",
+                    "#define FRONT_WALL 1\n", error)) {
+    return false;
+  }
+  for (int i = 0; i < 2; ++i) {
+    common_[i].Resolve(programs_[i]);  // leaves it bound
+    SetUniform(programs_[i].Uniform("u_sigma"), options.absorption_per_m);
+    SetUniform(programs_[i].Uniform("u_scatter"), options.deep_water_color);
+  }
+  return true;
+}
+
+void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls) {
+  GlStateGuard state;
+  state.Enable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  state.Enable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_SRC1_COLOR);
+  state.DepthMask(false);
+  glBindVertexArray(walls.vao());
+  // Which side of each wall's plane the camera is on (wall i as in
+  // TankWallsMesh): outside means the wall faces the camera.
+  const glm::dvec3& cam = f.cam_in_tank;
+  const TankGeometry& t = f.scene->tank;
+  const glm::dvec3 hs(0.5 * t.size_x, 0.5 * t.size_y, 0);
+  const double outside[4] = {-hs.y - cam.y, cam.x - hs.x, cam.y - hs.y,
+                             -hs.x - cam.x};
+  for (int pass = 0; pass < 2; ++pass) {
+    common_[pass].Set(programs_[pass], f, f.clip_from_tank);
+    for (int i = 0; i < 4; ++i) {
+      if ((outside[i] > 0) == (pass == 1)) {
+        glDrawArrays(GL_TRIANGLES, 6 * i, 6);
+      }
+    }
+  }
+  glBindVertexArray(0);
+}
+
+}  // namespace ripple::render::internal

@@ -1,0 +1,36 @@
+// Walls pass (internal to render/): the glass walls blended over everything
+// (dual-source: colour added, transmittance multiplied), far walls first,
+// then the walls facing the camera.
+//
+// Redraw key: none for the draw; the wall mesh is rebuilt only when the tank
+// geometry changes (TankWallsMesh).
+#ifndef RIPPLE_RENDER_PASS_WALLS_H_
+#define RIPPLE_RENDER_PASS_WALLS_H_
+
+#include <glm/glm.hpp>
+#include <string>
+
+#include "render/frame_state.h"
+#include "render/gl_objects.h"
+#include "render/meshes.h"
+
+namespace ripple::render::internal {
+
+class WallsPass {
+ public:
+  struct Options {
+    glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
+    glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};  // linear RGB
+  };
+  bool Create(const Options& options, std::string* error);
+  // Draws into the bound output, depth-tested against what is there.
+  void Draw(const FrameState& f, const TankWallsMesh& walls);
+
+ private:
+  Program programs_[2];  // far walls, front walls
+  CommonUniforms common_[2];
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_PASS_WALLS_H_

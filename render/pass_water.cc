@@ -1,0 +1,127 @@
+#include "render/pass_water.h"
+
+#include <cstdint>
+#include <vector>
+
+#include "render/gl_state.h"
+#include "render/shaders.h"
+
+namespace ripple::render::internal {
+
+bool WaterPass::BuildShading(Shading* s, const std::string& defines,
+                             const Options& options, std::string* error) {
+  if (!BuildProgram(&s->program, "water", "water_deferred.vert", "water.frag",
+                    defines, error)) {
+    return false;
+  }
+  const Program& p = s->program;
+  s->common.Resolve(p);  // leaves p bound
+  glUniform1f(p.Uniform("u_ambient"), options.shadow_ambient);
+  glUniform1f(p.Uniform("u_env_distance"), options.reflection_distance_m);
+  SetUniform(p.Uniform("u_sigma"), options.absorption_per_m);
+  SetUniform(p.Uniform("u_scatter"), options.deep_water_color);
+  return true;
+}
+
+bool WaterPass::Create(const Options& options, std::string* error) {
+  for (int v = 0; v < kVariants; ++v) {
+    std::string defines;
+    if (v & kShadows) defines += "#define SHADOWS 1\n";
+    if (v & kCaustics) defines += "#define CAUSTICS 1\n";
+    if (v & kReflection) defines += "#define REFLECTION 1\n";
+    if (v & kRefraction) defines += "#define REFRACTION 1\n";
+    if (!BuildShading(&variants_[v], defines, options, error)) return false;
+  }
+  if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
+      !BuildProgram(&depth_, "water_depth", "water.vert", "depth.frag", "",
+                    error)) {
+    return false;
+  }
+  depth_common_.Resolve(depth_);
+  empty_vao_.Create();
+
+  const int g = options.surface_grid;
+  std::vector<glm::vec2> grid;
+  grid.reserve((g + 1) * (g + 1));
+  for (int j = 0; j <= g; ++j) {
+    for (int i = 0; i <= g; ++i) grid.emplace_back(float(i) / g, float(j) / g);
+  }
+  // One triangle strip, row after row of quads joined by degenerate
+  // triangles (4 per row, zero area, dropped by the rasteriser's setup): a
+  // third of the indices of a triangle list, so llvmpipe's draw module
+  // shades each vertex about twice instead of up to six times. Each quad is
+  // split along its (i, j)-(i+1, j+1) diagonal, as a list would.
+  std::vector<std::uint32_t> indices;
+  indices.reserve(g * (2 * g + 4));
+  for (int j = 0; j < g; ++j) {
+    if (j > 0) {
+      indices.push_back(indices.back());
+      indices.push_back(j * (g + 1) + g + 1);
+    }
+    for (int i = 0; i <= g; ++i) {
+      const std::uint32_t a = j * (g + 1) + i;
+      indices.push_back(a + g + 1);
+      indices.push_back(a);
+    }
+  }
+  grid_index_count_ = static_cast<int>(indices.size());
+  grid_vao_.Create();
+  grid_vbo_.Create();
+  grid_ibo_.Create();
+  glBindVertexArray(grid_vao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, grid_vbo_.id());
+  glBufferData(GL_ARRAY_BUFFER, grid.size() * sizeof(glm::vec2), grid.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(glm::vec2), nullptr);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, grid_ibo_.id());
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, indices.size() * sizeof(std::uint32_t),
+               indices.data(), GL_STATIC_DRAW);
+  glBindVertexArray(0);
+  return true;
+}
+
+void WaterPass::Draw(const FrameState& f, bool have_video) {
+  const Effects& fx = f.scene->effects;
+  const Shading& shading =
+      fx.flat_water
+          ? flat_
+          : variants_[(fx.shadows ? kShadows : 0) |
+                      (fx.caustics ? kCaustics : 0) |
+                      (fx.reflection && have_video ? kReflection : 0) |
+                      (fx.refraction ? kRefraction : 0)];
+  GlStateGuard state;
+  state.Enable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  state.Enable(GL_STENCIL_TEST);
+  {
+    // (a) The mesh lays depth and marks its visible pixels in the stencil.
+    GlStateGuard mask;
+    mask.ColorMask(false);
+    depth_common_.Set(depth_, f, f.clip_from_tank);
+    glStencilFunc(GL_ALWAYS, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+    glBindVertexArray(grid_vao_.id());
+    glDrawElements(GL_TRIANGLE_STRIP, grid_index_count_, GL_UNSIGNED_INT,
+                   nullptr);
+  }
+  // (b) One shading per marked pixel, in the water's screen rectangle: the
+  // tank interior between 1 cm under and over the rest level, whatever the
+  // waves.
+  shading.common.Set(shading.program, f, f.clip_from_tank);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  state.StencilMask(0);
+  state.Disable(GL_DEPTH_TEST);
+  const TankGeometry& t = f.scene->tank;
+  const glm::ivec4 rect =
+      BoxRect(f.clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
+              t.water_level + 0.01, 1, f.k->width, f.k->height);
+  state.Enable(GL_SCISSOR_TEST);
+  glScissor(rect.x, rect.y, rect.z, rect.w);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+}  // namespace ripple::render::internal

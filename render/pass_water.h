@@ -1,0 +1,64 @@
+// Water pass (internal to render/): the surface mesh lays its depth and
+// marks its visible pixels in the stencil, then one full-screen shading per
+// marked pixel (refraction, shadow, caustics, reflection, specular) inside
+// the water's window rectangle.
+//
+// llvmpipe executes both sides of every branch, so each combination of
+// effects is its own program; all of them are compiled at creation.
+//
+// Redraw key: none (the output is redrawn every frame).
+#ifndef RIPPLE_RENDER_PASS_WATER_H_
+#define RIPPLE_RENDER_PASS_WATER_H_
+
+#include <glm/glm.hpp>
+#include <string>
+
+#include "render/frame_state.h"
+#include "render/gl_objects.h"
+
+namespace ripple::render::internal {
+
+class WaterPass {
+ public:
+  struct Options {
+    int surface_grid = 32;  // quads per side of the surface mesh
+    glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
+    glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};  // linear RGB
+    float shadow_ambient = 0.55f;  // floor brightness in full shadow
+    float reflection_distance_m = 0.3f;
+  };
+  bool Create(const Options& options, std::string* error);
+
+  // Draws into the bound output (depth laid by earlier passes), with the
+  // frame's textures bound to their units. `have_video`: the reflection map
+  // holds something.
+  void Draw(const FrameState& f, bool have_video);
+
+ private:
+  // Variant bits: one program per combination of these effects.
+  enum Variant : int {
+    kShadows = 1,
+    kCaustics = 2,
+    kReflection = 4,
+    kRefraction = 8,
+    kVariants = 16,
+  };
+  struct Shading {
+    Program program;
+    CommonUniforms common;
+  };
+  bool BuildShading(Shading* s, const std::string& defines,
+                    const Options& options, std::string* error);
+
+  Shading variants_[kVariants];
+  Shading flat_;  // Effects::flat_water: one colour, whatever the effects
+  Program depth_;
+  CommonUniforms depth_common_;
+  VertexArray grid_vao_, empty_vao_;
+  Buffer grid_vbo_, grid_ibo_;
+  int grid_index_count_ = 0;
+};
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_PASS_WATER_H_

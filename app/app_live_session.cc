@@ -97,8 +97,12 @@ void LiveSession::BuildKeyTable() {
       {{'r', 'R'},
        "radius down/up",
        [this](int key) {
-         ChangeWater(
-             [key](W* w) { w->pen_radius_m *= key == 'r' ? 1 / 1.25 : 1.25; });
+         ChangeWater([key](W* w) {
+           if (key == 'r')
+             w->pen_radius_m /= 1.25;
+           else
+             w->pen_radius_m *= 1.25;
+         });
        }},
       {{'f', 'F'},
        "force down/up",

@@ -89,6 +89,11 @@ int RunLive(LiveArgs& args) {
     return Fail(summary.stop.exit_code, summary.stop.message);
   if (!summary.source_error.empty())
     return Fail(kExitRuntime, summary.source_error);
+  // A camera never ends by itself; an input that does (a video file) is a
+  // lost camera too.
+  if (!summary.stopped)
+    return Fail(kExitRuntime,
+                "camera '" + args.input + "' lost (no frame for 30 reads)");
   return kExitOk;
 }
 

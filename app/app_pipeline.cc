@@ -1,16 +1,10 @@
 #include "app/app_pipeline.h"
 
-#include <chrono>
-
 #include "app/app_obstacles.h"
+#include "bench/stats.h"
 
 namespace ripple::app {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double MsSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Where removed obstacles are parked: far outside any tank.
 const tracking::Pose kParked(Eigen::Quaterniond::Identity(),
@@ -139,7 +133,7 @@ void Pipeline::UpdateSceneObstacles() {
 FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
                               bool read_back) {
   FrameReport report;
-  const auto t0 = Clock::now();
+  const bench::Stopwatch frame_watch;
   report.times.cap = cap_ms;
 
   // Tracking.
@@ -149,7 +143,7 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   report.times.pose = tr.timings.pose_ms;
 
   // Interaction and water.
-  const auto t_sim = Clock::now();
+  const bench::Stopwatch sim_watch;
   if (tr.tip_in_tank && tr.pen.status == tracking::TrackStatus::kTracked) {
     water_->SetPenTip(
         {tr.tip_in_tank->x(), tr.tip_in_tank->y(), tr.tip_in_tank->z()});
@@ -161,10 +155,10 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   have_time_ = true;
   water_->Advance(dt);
   report.water = water_->stats();
-  report.times.sim = MsSince(t_sim);
+  report.times.sim = sim_watch.ElapsedMs();
 
   // Render.
-  const auto t_render = Clock::now();
+  const bench::Stopwatch render_watch;
   if (tr.tank.has_pose()) {
     scene_.video = {bgr.data, bgr.cols, bgr.rows, static_cast<int>(bgr.step)};
     scene_.cam_from_tank = ToGlm(*tr.tank.cam_from_object);
@@ -189,14 +183,15 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     }
     report.times.shadow = report.passes.shadow_ms;
     report.times.caustics = report.passes.caustics_ms;
-    report.times.drw = std::max(
-        0.0, MsSince(t_render) - report.times.shadow - report.times.caustics);
+    report.times.drw =
+        std::max(0.0, render_watch.ElapsedMs() - report.times.shadow -
+                          report.times.caustics);
   } else if (read_back) {
     // Nothing to register the water to: the video passes through.
     bgr.copyTo(composite_);
-    report.times.drw = MsSince(t_render);
+    report.times.drw = render_watch.ElapsedMs();
   }
-  report.times.total = MsSince(t0);
+  report.times.total = frame_watch.ElapsedMs();
   return report;
 }
 

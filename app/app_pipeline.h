@@ -1,6 +1,7 @@
 // One frame of Ripple, as data flows (DESIGN.md): tracking -> interaction ->
 // water -> render, with per-stage timings. live, replay and demo all drive
-// this same pipeline; only the frame source and the output differ.
+// this same pipeline through one frame loop (app/app_loop.h); only the frame
+// source and the sinks differ.
 #ifndef RIPPLE_APP_APP_PIPELINE_H_
 #define RIPPLE_APP_APP_PIPELINE_H_
 
@@ -9,7 +10,7 @@
 #include <optional>
 #include <string>
 
-#include "app/app_timing.h"
+#include "bench/stage_table.h"
 #include "render/context.h"
 #include "render/renderer.h"
 #include "sim/water.h"
@@ -35,7 +36,7 @@ struct FrameReport {
   tracking::FrameResult tracking;
   sim::AdvanceStats water;
   render::PassTimings passes;
-  StageTimes times;
+  bench::StageTimes times;
   bool rendered = false;  // false when the tank was not seen: video only
 };
 
@@ -73,7 +74,6 @@ class Pipeline {
 
  private:
   Pipeline() = default;
-  bool RebuildWater(std::string* error);
 
   tracking::Camera camera_;
   tracking::Rig rig_;

@@ -10,9 +10,11 @@
 #include <opencv2/imgproc.hpp>
 #include <opencv2/videoio.hpp>
 #include <sstream>
+#include <thread>
 #include <vector>
 
 #include "app/command.h"
+#include "bench/stats.h"
 
 namespace ripple::app {
 namespace {
@@ -123,21 +125,31 @@ bool ReadFolderTimestamps(const std::string& dir, size_t frames,
 class CaptureSource : public FrameSource {
  public:
   CaptureSource(Kind kind, const std::string& spec,
-                std::unique_ptr<cv::VideoCapture> capture)
-      : FrameSource(kind, spec), capture_(std::move(capture)) {
+                std::unique_ptr<cv::VideoCapture> capture, int retries)
+      : FrameSource(kind, spec),
+        capture_(std::move(capture)),
+        retries_(retries) {
     if (kind == Kind::kVideo) {
       const double n = capture_->get(cv::CAP_PROP_FRAME_COUNT);
       count_ = n > 0 ? static_cast<int>(n) : -1;
     }
-    start_ = std::chrono::steady_clock::now();
+    if (kind == Kind::kCamera) fps_ = capture_->get(cv::CAP_PROP_FPS);
   }
 
   bool Read(cv::Mat* bgr, double* time_s) override {
     if (!error_.empty() || ended_) return false;
     cv::Mat frame;
-    if (!capture_->read(frame) || frame.empty()) {
+    bool got = capture_->read(frame) && !frame.empty();
+    for (int retry = 0; !got && retry < retries_; ++retry) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      got = capture_->read(frame) && !frame.empty();
+    }
+    if (!got) {
       ended_ = true;
-      if (kind_ == Kind::kCamera) {
+      if (kind_ == Kind::kCamera && retries_ > 0) {
+        error_ = "camera '" + spec_ + "' lost (no frame for " +
+                 std::to_string(retries_ + 1) + " reads)";
+      } else if (kind_ == Kind::kCamera) {
         error_ = "camera '" + spec_ + "' stopped delivering frames";
       } else if (count_ > 0 && frames_read_ < count_ - 1) {
         // Containers' counts can be off by one; more missing is a cut.
@@ -149,26 +161,32 @@ class CaptureSource : public FrameSource {
     }
     *bgr = ToBgr(frame);
     if (size_.area() == 0) size_ = bgr->size();
+    if (kind_ == Kind::kCamera && bgr->size() != size_) {
+      ended_ = true;
+      error_ = "camera '" + spec_ + "' changed its frame size mid-run";
+      return false;
+    }
     if (kind_ == Kind::kVideo) {
       const double ms = capture_->get(cv::CAP_PROP_POS_MSEC);
       if (frames_read_ == 0) t0_ms_ = ms;
       *time_s = (ms - t0_ms_) * 1e-3;
     } else {
-      *time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() -
-                                              start_)
-                    .count();
+      *time_s = clock_.ElapsedS();
     }
     ++frames_read_;
     return true;
   }
   int frame_count() const override { return count_; }
+  double reported_fps() const override { return fps_ > 0 ? fps_ : 0; }
 
  private:
   std::unique_ptr<cv::VideoCapture> capture_;
+  int retries_ = 0;
   int count_ = -1;
+  double fps_ = 0;
   bool ended_ = false;
   double t0_ms_ = 0;
-  std::chrono::steady_clock::time_point start_;
+  bench::Stopwatch clock_;  // camera timestamps
 };
 
 bool IsCameraIndex(const std::string& s) {
@@ -182,6 +200,15 @@ bool IsCameraIndex(const std::string& s) {
 std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
                                                std::string* error,
                                                double folder_fps) {
+  FrameSourceOptions options;
+  options.folder_fps = folder_fps;
+  return Open(spec, options, error);
+}
+
+std::unique_ptr<FrameSource> FrameSource::Open(
+    const std::string& spec, const FrameSourceOptions& options,
+    std::string* error) {
+  const double folder_fps = options.folder_fps;
   std::error_code ec;
   if (spec.empty()) {
     *error = "--input is empty";
@@ -220,7 +247,7 @@ std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
       return nullptr;
     }
     return std::make_unique<CaptureSource>(Kind::kVideo, spec,
-                                           std::move(capture));
+                                           std::move(capture), 0);
   }
   auto capture = std::make_unique<cv::VideoCapture>();
   try {
@@ -234,8 +261,15 @@ std::unique_ptr<FrameSource> FrameSource::Open(const std::string& spec,
     *error = "cannot open camera '" + spec + "'";
     return nullptr;
   }
-  return std::make_unique<CaptureSource>(Kind::kCamera, spec,
-                                         std::move(capture));
+  if (options.camera_newest_frame) capture->set(cv::CAP_PROP_BUFFERSIZE, 1);
+  if (options.camera_width > 0)
+    capture->set(cv::CAP_PROP_FRAME_WIDTH, options.camera_width);
+  if (options.camera_height > 0)
+    capture->set(cv::CAP_PROP_FRAME_HEIGHT, options.camera_height);
+  if (options.camera_fps > 0)
+    capture->set(cv::CAP_PROP_FPS, options.camera_fps);
+  return std::make_unique<CaptureSource>(
+      Kind::kCamera, spec, std::move(capture), options.camera_retries);
 }
 
 bool ReadFirstFrame(FrameSource* source, cv::Mat* bgr, double* time_s,

@@ -1,6 +1,7 @@
 // Frame sources for `--input`: a video file, a folder of images, or a camera
 // (index "0" or a device path such as /dev/video0). Shared by every command
-// that reads frames (calib, track, replay, live).
+// that reads frames (calib, track, replay, live); the demo's synthetic frames
+// come through the same interface (app/app_synth_source.h).
 //
 //   std::string error;
 //   auto source = FrameSource::Open(args.input, &error);
@@ -17,9 +18,25 @@
 
 namespace ripple::app {
 
+// What to ask of a camera, and how folder frames are timed.
+struct FrameSourceOptions {
+  // Timestamps of folder frames without a timestamps.csv, frames per second.
+  double folder_fps = 30.0;
+  // Camera capture size and rate (0: the driver's default). The driver may
+  // deliver something else; compare with size() and reported_fps().
+  int camera_width = 0, camera_height = 0;  // pixels
+  double camera_fps = 0;                    // frames per second
+  // A one-frame driver buffer, so that every read returns the newest frame
+  // (live latency).
+  bool camera_newest_frame = false;
+  // Failed camera reads retried (10 ms apart) before the camera counts as
+  // lost; 0: the first failure ends the input.
+  int camera_retries = 0;
+};
+
 class FrameSource {
  public:
-  enum class Kind { kVideo, kFolder, kCamera };
+  enum class Kind { kVideo, kFolder, kCamera, kSynthetic };
 
   // Opens `spec`: an existing folder (its image files: png, jpg, jpeg, bmp,
   // tif, tiff, pgm, ppm, webp, sorted by name), an existing file (a video),
@@ -31,6 +48,11 @@ class FrameSource {
   static std::unique_ptr<FrameSource> Open(const std::string& spec,
                                            std::string* error,
                                            double folder_fps = 30.0);
+  // As above, with camera requests. A camera that changes its frame size
+  // mid-run ends the input with an error.
+  static std::unique_ptr<FrameSource> Open(const std::string& spec,
+                                           const FrameSourceOptions& options,
+                                           std::string* error);
   virtual ~FrameSource() = default;
 
   // Next frame as 8-bit BGR and its time in seconds from the first frame
@@ -50,6 +72,9 @@ class FrameSource {
   virtual int frame_count() const { return -1; }
   // Frame size (0 x 0 when not yet known).
   cv::Size size() const { return size_; }
+  // The frame rate the camera driver reports (0 when unknown or not a
+  // camera).
+  virtual double reported_fps() const { return 0; }
 
  protected:
   FrameSource(Kind kind, std::string spec)

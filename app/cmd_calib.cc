@@ -5,14 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <functional>
 #include <memory>
 #include <opencv2/imgproc.hpp>
-#include <sstream>
 
 #include "app/app_common.h"
 #include "app/app_source.h"
+#include "app/app_wxh.h"
 #include "app/command.h"
 #include "calib/calib_io.h"
 #include "calib/camera_calib.h"
@@ -109,13 +108,6 @@ tracking::TagDetector MakeDetector(const std::string& family) {
   return tracking::TagDetector(options);
 }
 
-bool ParsePattern(const std::string& s, int* cols, int* rows) {
-  char x;
-  std::istringstream in(s);
-  return (in >> *cols >> x >> *rows) && x == 'x' && in.eof() && *cols >= 2 &&
-         *rows >= 2;
-}
-
 // ---------------------------------------------------------------- camera
 
 int RunCalibCamera(const CalibArgs& args) {
@@ -139,10 +131,11 @@ int RunCalibCamera(const CalibArgs& args) {
         std::make_unique<tracking::TagDetector>(MakeDetector(target->family));
     border_cells =
         tracking::TagFamily::Create(target->family)->width_at_border();
-  } else if (!args.chessboard.empty() &&
-             !ParsePattern(args.chessboard, &cols, &rows)) {
-    return Fail(kExitBadInput, "--chessboard '" + args.chessboard +
-                                   "': expected COLSxROWS inner corners");
+  } else if (!args.chessboard.empty()) {
+    WxH pattern;
+    ParseWxH(args.chessboard, &pattern, WxHLimits::Pattern());  // validated
+    cols = pattern.width;
+    rows = pattern.height;
   }
   calib::ViewSelectionOptions select;
   select.max_edge_width_px = args.max_edge_width;
@@ -241,23 +234,12 @@ int RunCalibRig(const CalibArgs& args) {
       },
       cv::Size(in.camera.width, in.camera.height));
   if (code != kExitOk) return code;
-  // Which object: the one whose tags are seen together more often.
-  auto together = [&](const std::vector<tracking::TagPlacement>& tags) {
-    int n = 0;
-    for (const auto& d : detections) {
-      int seen = 0;
-      for (const auto& det : d)
-        for (const auto& t : tags) seen += t.id == det.id;
-      n += seen >= 2;
-    }
-    return n;
-  };
   std::string object = args.object;
   if (object == "auto")
-    object =
-        in.rig.pen && together(in.rig.pen->faces) >= together(in.rig.tank_tags)
-            ? "pen"
-            : "tank";
+    object = calib::ChooseLayoutObject(in.rig, detections) ==
+                     calib::LayoutObject::kPen
+                 ? "pen"
+                 : "tank";
   std::vector<tracking::TagPlacement>& tags =
       object == "pen" ? in.rig.pen->faces : in.rig.tank_tags;
   calib::RigCalibOptions options;
@@ -392,30 +374,8 @@ int RunCalibCheck(const CalibArgs& args) {
       summary.touches.size(), points.size(), samples.size(), frames,
       summary.BriefReport().c_str());
   if (!args.out.empty()) {
-    const bool ok = calib::WriteAtomically(
-        args.out,
-        [&](const std::string& temp, std::string* e) {
-          std::ofstream f(temp);
-          f << "point,x_m,y_m,z_m,measured_x_m,measured_y_m,measured_z_m,"
-               "samples,start_s,end_s,error_m,error_xy_m,error_z_m\n";
-          for (const auto& t : summary.touches) {
-            char line[512];
-            std::snprintf(line, sizeof(line),
-                          "%s,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.3f,%.3f,%.5f,"
-                          "%.5f,%.5f\n",
-                          t.name.c_str(), t.point_in_tank.x(),
-                          t.point_in_tank.y(), t.point_in_tank.z(),
-                          t.measured_in_tank.x(), t.measured_in_tank.y(),
-                          t.measured_in_tank.z(), t.samples, t.start_s, t.end_s,
-                          t.error_m, t.error_xy_m, t.error_z_m);
-            f << line;
-          }
-          f.close();
-          if (!f) *e = "cannot write '" + args.out + "'";
-          return static_cast<bool>(f);
-        },
-        &error);
-    if (!ok) return Fail(kExitRuntime, error);
+    if (!calib::WriteTipCheckCsv(summary, args.out, &error))
+      return Fail(kExitRuntime, error);
     std::printf("check -> %s\n", args.out.c_str());
   }
   return kExitOk;
@@ -447,8 +407,10 @@ CommandAction SetupCalib(CLI::App* sub) {
       "Intrinsics and distortion from views of a chessboard or a "
       "flat tag board");
   AddInput(camera, args.get());
-  camera->add_option("--chessboard", args->chessboard,
-                     "Chessboard inner corners COLSxROWS (default 9x6)");
+  camera
+      ->add_option("--chessboard", args->chessboard,
+                   "Chessboard inner corners COLSxROWS (default 9x6)")
+      ->check(WxHValidator(WxHLimits::Pattern()));
   camera->add_option("--square", args->square, "Chessboard square, metres")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

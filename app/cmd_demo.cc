@@ -3,15 +3,15 @@
 // the full pipeline headless, and writes out/demo.mp4, out/demo_frame.png,
 // out/demo_poses.csv and out/timing.csv, printing the stage-timing table for
 // the active part and for an idle tail (water at rest, pen away).
-#include <chrono>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
 
 #include "app/app_common.h"
+#include "app/app_loop.h"
 #include "app/app_pipeline.h"
-#include "app/app_video.h"
+#include "app/app_sinks.h"
+#include "app/app_synth_source.h"
 #include "app/command.h"
-#include "tracking/pose_csv.h"
+#include "bench/stage_table.h"
 #include "tracking/synth/synth.h"
 
 namespace ripple::app {
@@ -65,54 +65,45 @@ int RunDemo(const DemoArgs& args) {
     f.noise_seed = last.noise_seed + 1 + i;
     frames.push_back(f);
   }
-  const synth::SceneRenderer synth_renderer(*camera, *rig);
+  const int total = static_cast<int>(frames.size());
+  SynthSource source(*camera, *rig, std::move(frames));
 
-  VideoOut video;
+  VideoSink video;
   const std::string video_path = args.out + "/demo.mp4";
   if (!video.Open(video_path, seq.fps, cv::Size(camera->width, camera->height),
                   &error))
     return Fail(kExitBadInput, error);
-  tracking::PoseCsvWriter poses;
+  PoseCsvSink poses;
   if (!poses.Open(args.out + "/demo_poses.csv", &error))
     return Fail(kExitBadInput, error);
+  PngSink snapshot({args.out + "/demo_frame.png",
+                    static_cast<int>(0.45 * args.frames), "", kExitRuntime});
 
-  StageTable active, idle;
-  const int snapshot = static_cast<int>(0.45 * args.frames);
+  bench::StageTable active, idle;
+  FunctionSink tables([&](const LoopFrame& f, LoopStop*) {
+    (f.index >= args.frames ? idle : active).Add(f.report->times);
+    return true;
+  });
+  FunctionSink progress([&](const LoopFrame& f, LoopStop*) {
+    if ((f.index + 1) % 30 == 0 || f.index + 1 == total)
+      std::fprintf(stderr, "\rdemo: %d/%d frames", f.index + 1, total);
+    return true;
+  });
+  FrameLoopHooks hooks;
+  hooks.before_frame = [&](int index) {
+    // The idle tail starts from calm water, so it shows the at-rest cost.
+    if (index == args.frames) pipeline->water().Reset();
+  };
   std::printf("demo: %d active + %d idle frames of %dx%d on %s (%s)\n",
               args.frames, args.idle_frames, camera->width, camera->height,
               render::BackendName(*backend),
               pipeline->context().Description().c_str());
-  for (const synth::FrameSpec& f : frames) {
-    const bool is_idle = f.index >= args.frames;
-    if (f.index == args.frames) {
-      // The idle tail starts from calm water, so it shows the at-rest cost.
-      pipeline->water().Reset();
-    }
-    const auto t0 = std::chrono::steady_clock::now();
-    const cv::Mat image =
-        synth_renderer.Render(f.scene, f.imaging, f.noise_seed).image;
-    const double cap_ms = std::chrono::duration<double, std::milli>(
-                              std::chrono::steady_clock::now() - t0)
-                              .count();
-    const FrameReport r =
-        pipeline->Process(image, f.time_s, cap_ms, /*read_back=*/true);
-    (is_idle ? idle : active).Add(r.times);
-    video.Write(pipeline->composite());
-    for (const tracking::PoseRow& row :
-         pipeline->tracker().ToPoseRows(r.tracking))
-      if (!poses.Write(row))
-        return Fail(kExitRuntime, "cannot write '" + args.out +
-                                      "/demo_poses.csv' (video finalized)");
-    if (f.index == snapshot &&
-        !cv::imwrite(args.out + "/demo_frame.png", pipeline->composite()))
-      return Fail(kExitRuntime,
-                  "cannot write '" + args.out + "/demo_frame.png'");
-    if ((f.index + 1) % 30 == 0 || f.index + 1 == int(frames.size()))
-      std::fprintf(stderr, "\rdemo: %d/%zu frames", f.index + 1, frames.size());
-  }
+  FrameLoopSummary summary;
+  RunFrameLoop(hooks, &source, nullptr, pipeline.get(),
+               {&tables, &video, &poses, &snapshot, &progress}, &summary);
+  if (summary.stopped)
+    return Fail(summary.stop.exit_code, summary.stop.message);
   std::fprintf(stderr, "\n");
-  video.Close();
-  poses.Close();
   std::printf("%s", active.Format("active: pen in the water").c_str());
   std::printf("%s", idle.Format("idle: water at rest, pen away").c_str());
   if (!active.AppendCsv(args.out + "/timing.csv", "active", true, &error) ||

@@ -2,11 +2,12 @@
 // calibration chessboard) as PDF, SVG and PNG.
 #include <cstdio>
 #include <memory>
-#include <sstream>
 
 #include "app/app_common.h"
+#include "app/app_wxh.h"
 #include "app/command.h"
 #include "calib/marker_sheet.h"
+#include "calib/sheet_writer.h"
 
 namespace ripple::app {
 namespace {
@@ -20,21 +21,11 @@ struct MarkersArgs {
   double square = 0.025;
 };
 
-bool ParsePattern(const std::string& s, int* cols, int* rows) {
-  char x;
-  std::istringstream in(s);
-  return (in >> *cols >> x >> *rows) && x == 'x' && in.eof() && *cols >= 2 &&
-         *rows >= 2 && *cols <= 100 && *rows <= 100;
-}
-
 int RunMarkers(const MarkersArgs& args) {
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
-  int cols = 0, rows = 0;
-  if (!ParsePattern(args.chessboard, &cols, &rows))
-    return Fail(kExitBadInput, "--chessboard '" + args.chessboard +
-                                   "': expected COLSxROWS inner corners, "
-                                   "e.g. 9x6");
+  WxH pattern;
+  ParseWxH(args.chessboard, &pattern, WxHLimits::Pattern());  // validated
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
   std::vector<std::string> written;
@@ -64,8 +55,8 @@ int RunMarkers(const MarkersArgs& args) {
         return Fail(kExitRuntime, error);
     }
     if (!emit("chessboard",
-              calib::MakeChessboardSheet(cols, rows, args.square, paper, &sheet,
-                                         &error),
+              calib::MakeChessboardSheet(pattern.width, pattern.height,
+                                         args.square, paper, &sheet, &error),
               sheet))
       return Fail(kExitRuntime, error);
   }
@@ -95,7 +86,8 @@ CommandAction SetupMarkers(CLI::App* sub) {
       ->check(CLI::Range(50.0, 1200.0));
   sub->add_option("--chessboard", args->chessboard,
                   "Calibration chessboard, inner corners COLSxROWS")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(WxHValidator(WxHLimits::Pattern()));
   sub->add_option("--square", args->square, "Chessboard square edge, metres")
       ->capture_default_str()
       ->check(CLI::Range(0.003, 0.2));

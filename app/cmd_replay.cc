@@ -1,16 +1,19 @@
 // `ripple replay`: the live pipeline on a recording, timed by its
 // timestamps, deterministic, writing an H.264 MP4 and the poses.
-#include <chrono>
+#include <algorithm>
 #include <cstdio>
-#include <opencv2/imgcodecs.hpp>
+#include <memory>
+#include <vector>
 
 #include "app/app_common.h"
+#include "app/app_loop.h"
 #include "app/app_options.h"
 #include "app/app_pipeline.h"
+#include "app/app_sinks.h"
 #include "app/app_source.h"
-#include "app/app_video.h"
 #include "app/command.h"
-#include "tracking/pose_csv.h"
+#include "bench/stage_table.h"
+#include "bench/stats.h"
 
 namespace ripple::app {
 namespace {
@@ -43,73 +46,69 @@ int RunReplay(ReplayArgs& args) {
   auto source = FrameSource::Open(args.input, &error, args.fps);
   if (!source) return Fail(kExitBadInput, error);
 
-  cv::Mat frame;
-  double time_s = 0;
-  auto t_cap = std::chrono::steady_clock::now();
+  SourceFrame first;
   int code = 0;
-  if (!ReadFirstFrame(source.get(), &frame, &time_s, &code, &error))
+  const bench::Stopwatch first_watch;
+  if (!ReadFirstFrame(source.get(), &first.bgr, &first.time_s, &code, &error))
     return Fail(code, error);
-  if (!MatchCameraToFrames(frame.size(), args.camera, &*camera, &error))
+  first.cap_ms = first_watch.ElapsedMs();
+  if (!MatchCameraToFrames(first.bgr.size(), args.camera, &*camera, &error))
     return Fail(kExitBadInput, error);
 
   auto pipeline =
       Pipeline::Create(*camera, *rig, args.pipeline.options, &error);
   if (!pipeline) return Fail(kExitRuntime, error);
-  VideoOut video;
+  VideoSink video;
   if (!args.out.empty() &&
-      !video.Open(args.out, args.fps, frame.size(), &error))
+      !video.Open(args.out, args.fps, first.bgr.size(), &error))
     return Fail(kExitBadInput, error);
-  tracking::PoseCsvWriter poses;
+  PoseCsvSink poses;
   if (!args.poses.empty() && !poses.Open(args.poses, &error))
     return Fail(kExitBadInput, error);
 
-  StageTable table;
-  const int total = source->frame_count();
-  const auto t_start = std::chrono::steady_clock::now();
-  int n = 0;
+  bench::StageTable table;
   int tank_tracked = 0;
-  do {
-    const double cap_ms = std::chrono::duration<double, std::milli>(
-                              std::chrono::steady_clock::now() - t_cap)
-                              .count();
-    const bool snap = !args.snapshot.empty() && n == args.snapshot_frame;
-    const FrameReport r = pipeline->Process(
-        frame, time_s, cap_ms, /*read_back=*/video.is_open() || snap);
-    if (snap && !cv::imwrite(args.snapshot, pipeline->composite()))
-      return Fail(kExitBadInput,
-                  "cannot write snapshot '" + args.snapshot + "'");
-    table.Add(r.times);
-    if (r.tracking.tank.has_pose()) ++tank_tracked;
-    if (video.is_open()) video.Write(pipeline->composite());
-    if (!args.poses.empty()) {
-      for (const tracking::PoseRow& row :
-           pipeline->tracker().ToPoseRows(r.tracking))
-        if (!poses.Write(row))
-          return Fail(kExitRuntime,
-                      "cannot write '" + args.poses + "' (video finalized)");
-    }
-    if (args.pipeline.options.window) {
-      pipeline->renderer().Present();
-      if (pipeline->context().ShouldClose()) break;
-    }
-    ++n;
-    const double secs = std::chrono::duration<double>(
-                            std::chrono::steady_clock::now() - t_start)
-                            .count();
-    PrintProgress(n, total, n / std::max(secs, 1e-9));
-    t_cap = std::chrono::steady_clock::now();
-  } while (source->Read(&frame, &time_s));
+  FunctionSink stats([&](const LoopFrame& f, LoopStop*) {
+    table.Add(f.report->times);
+    if (f.report->tracking.tank.has_pose()) ++tank_tracked;
+    return true;
+  });
+  const int total = source->frame_count();
+  const bench::Stopwatch run_watch;
+  FunctionSink progress([&](const LoopFrame& f, LoopStop*) {
+    PrintProgress(f.index + 1, total,
+                  (f.index + 1) / std::max(run_watch.ElapsedS(), 1e-9));
+    return true;
+  });
+  std::vector<FrameSink*> sinks;
+  std::unique_ptr<PngSink> snapshot;
+  if (!args.snapshot.empty()) {
+    snapshot = std::make_unique<PngSink>(PngSink::Options{
+        args.snapshot, args.snapshot_frame, "snapshot ", kExitBadInput});
+    sinks.push_back(snapshot.get());
+  }
+  sinks.push_back(&stats);
+  sinks.push_back(&video);
+  if (!args.poses.empty()) sinks.push_back(&poses);
+  WindowSink window;
+  if (args.pipeline.options.window) sinks.push_back(&window);
+  sinks.push_back(&progress);
+
+  FrameLoopSummary summary;
+  RunFrameLoop(FrameLoopHooks(), source.get(), &first, pipeline.get(), sinks,
+               &summary);
+  if (summary.stopped && summary.stop.exit_code != kExitOk)
+    return Fail(summary.stop.exit_code, summary.stop.message);
   std::fprintf(stderr, "\n");
-  // Whatever happens next, the video written so far is finalized.
-  video.Close();
-  poses.Close();
+  const int n = summary.frames;
   std::printf("%s", table.Format("replay of " + args.input).c_str());
   std::printf("tank tracked in %d/%d frames\n", tank_tracked, n);
   if (!args.timing.empty() &&
       !table.AppendCsv(args.timing, "replay", true, &error))
     return Fail(kExitRuntime, error);
-  if (!source->error().empty())
-    return Fail(kExitRuntime, source->error() + " (output finalized after " +
+  if (!summary.source_error.empty())
+    return Fail(kExitRuntime, summary.source_error +
+                                  " (output finalized after " +
                                   std::to_string(n) + " frames)");
   return kExitOk;
 }

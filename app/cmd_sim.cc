@@ -2,7 +2,6 @@
 // strokes. Prints statistics and timings; optionally writes the height field
 // as PNG frames or a video (top view, +y up, grey = rest level).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -15,9 +14,9 @@
 
 #include "app/app_common.h"
 #include "app/app_obstacles.h"
-#include "app/app_timing.h"
 #include "app/app_video.h"
 #include "app/command.h"
+#include "bench/stats.h"
 #include "sim/water.h"
 
 namespace ripple::app {
@@ -201,11 +200,9 @@ int RunSim(SimArgs args) {
     } else {
       water.ClearPen();
     }
-    const auto t0 = std::chrono::steady_clock::now();
+    const bench::Stopwatch watch;
     water.Advance(f == 0 ? 0.0 : dt);
-    const double ms = std::chrono::duration<double, std::milli>(
-                          std::chrono::steady_clock::now() - t0)
-                          .count();
+    const double ms = watch.ElapsedMs();
     const sim::AdvanceStats& s = water.stats();
     if (f > 0) advance_ms.push_back(ms);
     substeps += s.substeps;
@@ -244,7 +241,7 @@ int RunSim(SimArgs args) {
       "%.3g s dropped; max|h| %.3e m; final volume %.3e m^3 (|h| volume "
       "%.3e m^3)\n",
       frames, substeps, substeps > 0 ? 1e3 * total_ms / substeps : 0.0,
-      Percentile(advance_ms, 50), Percentile(advance_ms, 95),
+      bench::Percentile(advance_ms, 50), bench::Percentile(advance_ms, 95),
       advance_ms.empty()
           ? 0.0
           : *std::max_element(advance_ms.begin(), advance_ms.end()),

@@ -1,12 +1,13 @@
 // `ripple synth`: ground-truth frames of the board and the pen.
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <opencv2/imgcodecs.hpp>
 
 #include "app/app_common.h"
 #include "app/app_video.h"
+#include "app/app_wxh.h"
 #include "app/command.h"
+#include "bench/stats.h"
 #include "tracking/pose_csv.h"
 #include "tracking/synth/synth.h"
 
@@ -23,24 +24,15 @@ struct SynthArgs {
   bool no_png = false;
 };
 
-bool ParseSize(const std::string& s, int* w, int* h) {
-  char x;
-  std::istringstream in(s);
-  return (in >> *w >> x >> *h) && x == 'x' && in.eof() && *w > 0 && *h > 0 &&
-         *w <= 16384 && *h <= 16384;
-}
-
 int RunSynth(const SynthArgs& args) {
   auto camera = LoadCameraOrReport(args.camera);
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
   if (!args.size.empty()) {
-    int w, h;
-    if (!ParseSize(args.size, &w, &h))
-      return Fail(kExitBadInput, "--size '" + args.size +
-                                     "': expected WIDTHxHEIGHT, e.g. 1280x720");
-    *camera = camera->Scaled(w, h);
+    WxH size;
+    ParseWxH(args.size, &size);  // checked by the option's validator
+    *camera = camera->Scaled(size.width, size.height);
   }
   std::vector<synth::FrameSpec> frames;
   std::string error;
@@ -61,7 +53,7 @@ int RunSynth(const SynthArgs& args) {
     return Fail(kExitBadInput, error);
 
   const synth::SceneRenderer renderer(*camera, *rig);
-  const auto t0 = std::chrono::steady_clock::now();
+  const bench::Stopwatch watch;
   for (const synth::FrameSpec& f : frames) {
     const synth::RenderedFrame r =
         renderer.Render(f.scene, f.imaging, f.noise_seed);
@@ -99,9 +91,7 @@ int RunSynth(const SynthArgs& args) {
   if (!csv.Close())
     return Fail(kExitRuntime,
                 "cannot finish '" + args.out + "/groundtruth.csv'");
-  const double secs =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0)
-          .count();
+  const double secs = watch.ElapsedS();
   std::printf(
       "synth: %zu frames of %dx%d (preset %s, seed %llu) in %.1f s (%.1f "
       "ms/frame) -> %s\n",
@@ -138,7 +128,8 @@ CommandAction SetupSynth(CLI::App* sub) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   sub->add_option("--size", args->size,
-                  "Image size WxH (intrinsics scaled from --camera)");
+                  "Image size WxH (intrinsics scaled from --camera)")
+      ->check(WxHValidator(WxHLimits::Size()));
   sub->add_option("--video", args->video,
                   "Also write the frames as a video (.mkv lossless, .mp4)");
   sub->add_flag("--no-png", args->no_png, "Skip the PNG frames (with --video)");

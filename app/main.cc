@@ -1,25 +1,10 @@
 // The `ripple` binary: dispatches to the registered subcommands.
 #include <algorithm>
-#include <cstdio>
 #include <exception>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
 
 #include "app/command.h"
-
-namespace ripple::app {
-
-std::vector<CommandInfo>& CommandRegistry() {
-  static std::vector<CommandInfo> registry;
-  return registry;
-}
-
-int Fail(int code, const std::string& message) {
-  std::fprintf(stderr, "ripple: %s\n", message.c_str());
-  return code;
-}
-
-}  // namespace ripple::app
 
 int main(int argc, char** argv) {
   using namespace ripple::app;

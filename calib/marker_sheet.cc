@@ -1,9 +1,5 @@
 #include "calib/marker_sheet.h"
 
-#include <cairo-pdf.h>
-#include <cairo-svg.h>
-#include <cairo.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,88 +9,27 @@
 #include <map>
 #include <sstream>
 
-#include "calib/calib_io.h"
+#include "calib/sheet_geometry.h"
 #include "calib/tip_check.h"
 #include "tracking/tag_family.h"
 
 namespace ripple::calib {
 namespace {
 
-using Box = Eigen::AlignedBox2d;
 using Eigen::Vector2d;
 using Eigen::Vector3d;
-
-constexpr double kMm = 1e-3;
-constexpr double kLabelSize = 2.2 * kMm;  // tag id labels
-constexpr double kTextSize = 3.0 * kMm;
-
-Eigen::Matrix2d Rot2(double a) {
-  Eigen::Matrix2d r;
-  r << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
-  return r;
-}
-
-double TextWidth(const std::string& s, double size) {
-  return 0.56 * size * s.size();
-}
-
-Box BoxOf(std::initializer_list<Vector2d> points) {
-  Box b;
-  for (const Vector2d& p : points) b.extend(p);
-  return b;
-}
-
-Box TextBox(const SheetText& t) {
-  const Eigen::Matrix2d r = Rot2(t.angle_rad);
-  const double hw = 0.5 * TextWidth(t.text, t.size_m), hh = 0.5 * t.size_m;
-  return BoxOf({t.at + r * Vector2d(-hw, -hh), t.at + r * Vector2d(hw, -hh),
-                t.at + r * Vector2d(hw, hh), t.at + r * Vector2d(-hw, hh)});
-}
-
-struct FamilyInfo {
-  int total = 10, border = 8;
-};
-
-bool GetFamily(const std::string& name, FamilyInfo* info, std::string* error) {
-  auto family = tracking::TagFamily::Create(name);
-  if (!family) {
-    *error = "unknown tag family '" + name + "'";
-    return false;
-  }
-  info->total = family->total_width();
-  info->border = family->width_at_border();
-  return true;
-}
-
-// The tag's id label (text) for a tag placed on a sheet.
-SheetText TagLabel(const SheetTag& tag, const FamilyInfo& f) {
-  const double cell = tag.edge_m / f.border;
-  const double half = 0.5 * f.total * cell;
-  const Vector2d dir = tag.label_dir.normalized();
-  SheetText t;
-  t.text = "id " + std::to_string(tag.id);
-  t.size_m = kLabelSize;
-  const double along = std::abs(dir.x()) > 0.5
-                           ? 0.5 * TextWidth(t.text, t.size_m)
-                           : 0.5 * t.size_m;
-  t.at = tag.centre_m +
-         Rot2(tag.angle_rad) *
-             (dir * (half + 0.6 * kMm + tag.label_offset_m + along));
-  t.angle_rad = tag.angle_rad;
-  return t;
-}
-
-// The tag with its white margin and its label.
-Box TagBox(const SheetTag& tag, const FamilyInfo& f) {
-  const double half = 0.5 * f.total * tag.edge_m / f.border;
-  const Eigen::Matrix2d r = Rot2(tag.angle_rad);
-  Box b = BoxOf({tag.centre_m + r * Vector2d(-half, -half),
-                 tag.centre_m + r * Vector2d(half, -half),
-                 tag.centre_m + r * Vector2d(half, half),
-                 tag.centre_m + r * Vector2d(-half, half)});
-  if (!tag.label_dir.isZero()) b.extend(TextBox(TagLabel(tag, f)));
-  return b;
-}
+using sheet::Box;
+using sheet::BoxOf;
+using sheet::FamilyInfo;
+using sheet::GetFamily;
+using sheet::kLabelSize;
+using sheet::kMm;
+using sheet::kTextSize;
+using sheet::Rot2;
+using sheet::TagBox;
+using sheet::TagLabel;
+using sheet::TextBox;
+using sheet::TextWidth;
 
 bool Overlaps(const Box& b, const std::vector<Box>& occupied) {
   for (const Box& o : occupied)
@@ -536,210 +471,6 @@ bool MakeChessboardSheet(int cols, int rows, double square_m,
   }
   AddFreeText(sheet, &occupied, sheet->title, kLabelSize,
               Vector2d(0.5 * sheet->width_m, 0));
-  return true;
-}
-
-namespace {
-
-void Draw(cairo_t* cr, const Sheet& sheet, const tracking::TagFamily& family,
-          const FamilyInfo& f) {
-  cairo_set_source_rgb(cr, 1, 1, 1);
-  cairo_rectangle(cr, 0, 0, sheet.width_m, sheet.height_m);
-  cairo_fill(cr);
-  cairo_set_source_rgb(cr, 0, 0, 0);
-  // Tags: every black cell of the family's bitmap, one path per tag so that
-  // neighbouring cells leave no seams.
-  for (const SheetTag& tag : sheet.tags) {
-    auto bitmap = tracking::MakeTagBitmap(family, tag.id);
-    if (!bitmap) continue;
-    const double cell = tag.edge_m / bitmap->width_at_border;
-    const double first =
-        -0.5 * tag.edge_m -
-        0.5 * (bitmap->total_width - bitmap->width_at_border) * cell;
-    cairo_save(cr);
-    cairo_translate(cr, tag.centre_m.x(), tag.centre_m.y());
-    cairo_rotate(cr, tag.angle_rad);
-    cairo_new_path(cr);
-    for (int r = 0; r < bitmap->total_width; ++r)
-      for (int c = 0; c < bitmap->total_width; ++c)
-        if (bitmap->black(r, c))
-          cairo_rectangle(cr, first + c * cell, first + r * cell, cell, cell);
-    cairo_set_fill_rule(cr, CAIRO_FILL_RULE_WINDING);
-    cairo_fill(cr);
-    cairo_restore(cr);
-  }
-  for (const Box& b : sheet.black_boxes) {
-    cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
-  }
-  cairo_fill(cr);
-  auto stroke_style = [&](SheetLine::Style s) {
-    double dash[2] = {3 * kMm, 2 * kMm};
-    switch (s) {
-      case SheetLine::Style::kCut:
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        cairo_set_line_width(cr, 0.3 * kMm);
-        cairo_set_dash(cr, nullptr, 0, 0);
-        break;
-      case SheetLine::Style::kFold:
-        cairo_set_source_rgb(cr, 0.35, 0.35, 0.35);
-        cairo_set_line_width(cr, 0.3 * kMm);
-        cairo_set_dash(cr, dash, 2, 0);
-        break;
-      case SheetLine::Style::kThin:
-        cairo_set_source_rgb(cr, 0, 0, 0);
-        cairo_set_line_width(cr, 0.15 * kMm);
-        cairo_set_dash(cr, nullptr, 0, 0);
-        break;
-      case SheetLine::Style::kGuide:
-        cairo_set_source_rgb(cr, 0.6, 0.6, 0.6);
-        cairo_set_line_width(cr, 0.2 * kMm);
-        dash[0] = 1.5 * kMm;
-        dash[1] = 1.5 * kMm;
-        cairo_set_dash(cr, dash, 2, 0);
-        break;
-    }
-  };
-  for (const SheetLine& l : sheet.lines) {
-    stroke_style(l.style);
-    cairo_move_to(cr, l.a.x(), l.a.y());
-    cairo_line_to(cr, l.b.x(), l.b.y());
-    cairo_stroke(cr);
-  }
-  for (const SheetCircle& c : sheet.circles) {
-    stroke_style(c.style);
-    cairo_new_path(cr);
-    cairo_arc(cr, c.centre.x(), c.centre.y(), c.radius_m, 0, 2 * M_PI);
-    cairo_stroke(cr);
-  }
-  cairo_set_dash(cr, nullptr, 0, 0);
-  cairo_set_source_rgb(cr, 0, 0, 0);
-  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL,
-                         CAIRO_FONT_WEIGHT_NORMAL);
-  std::vector<SheetText> texts = sheet.texts;
-  for (const SheetTag& tag : sheet.tags)
-    if (!tag.label_dir.isZero()) texts.push_back(TagLabel(tag, f));
-  for (const SheetText& t : texts) {
-    cairo_save(cr);
-    cairo_set_font_size(cr, t.size_m);
-    cairo_translate(cr, t.at.x(), t.at.y());
-    cairo_rotate(cr, t.angle_rad);
-    cairo_text_extents_t e;
-    cairo_text_extents(cr, t.text.c_str(), &e);
-    cairo_move_to(cr, -0.5 * e.width - e.x_bearing,
-                  -0.5 * e.height - e.y_bearing);
-    cairo_show_text(cr, t.text.c_str());
-    cairo_restore(cr);
-  }
-}
-
-uint32_t Crc32(const uint8_t* data, size_t n, uint32_t crc = 0) {
-  static uint32_t table[256];
-  static bool init = false;
-  if (!init) {
-    for (uint32_t i = 0; i < 256; ++i) {
-      uint32_t c = i;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
-      table[i] = c;
-    }
-    init = true;
-  }
-  crc = ~crc;
-  for (size_t i = 0; i < n; ++i)
-    crc = table[(crc ^ data[i]) & 0xFF] ^ (crc >> 8);
-  return ~crc;
-}
-
-// Inserts a pHYs chunk (pixels per metre) after IHDR so that viewers and
-// printers know the physical size.
-bool AddPngResolution(const std::string& path, double dpi) {
-  std::ifstream in(path, std::ios::binary);
-  std::string png((std::istreambuf_iterator<char>(in)), {});
-  in.close();
-  if (png.size() < 33 || png.compare(12, 4, "IHDR") != 0) return false;
-  if (png.find("pHYs") != std::string::npos) return true;
-  const uint32_t ppm = static_cast<uint32_t>(std::lround(dpi / 0.0254));
-  uint8_t chunk[21] = {0, 0, 0, 9, 'p', 'H', 'Y', 's'};
-  for (int i = 0; i < 2; ++i) {
-    chunk[8 + 4 * i] = ppm >> 24;
-    chunk[9 + 4 * i] = (ppm >> 16) & 0xFF;
-    chunk[10 + 4 * i] = (ppm >> 8) & 0xFF;
-    chunk[11 + 4 * i] = ppm & 0xFF;
-  }
-  chunk[16] = 1;  // unit: metre
-  const uint32_t crc = Crc32(chunk + 4, 13);
-  chunk[17] = crc >> 24;
-  chunk[18] = (crc >> 16) & 0xFF;
-  chunk[19] = (crc >> 8) & 0xFF;
-  chunk[20] = crc & 0xFF;
-  png.insert(33, reinterpret_cast<const char*>(chunk), 21);
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(png.data(), png.size());
-  return static_cast<bool>(out);
-}
-
-}  // namespace
-
-bool WriteSheet(const Sheet& sheet, const std::string& base, double png_dpi,
-                std::vector<std::string>* written, std::string* error) {
-  auto family = tracking::TagFamily::Create(sheet.family);
-  FamilyInfo f;
-  if (!family || !GetFamily(sheet.family, &f, error)) {
-    *error = "unknown tag family '" + sheet.family + "'";
-    return false;
-  }
-  constexpr double kPtPerM = 72.0 / 0.0254;
-  const double w_pt = sheet.width_m * kPtPerM, h_pt = sheet.height_m * kPtPerM;
-  auto vector_writer = [&](bool pdf) {
-    return [&, pdf](const std::string& temp, std::string* e) {
-      // PDF in points; SVG in millimetres (document unit mm, so the file's
-      // width/height say "297mm" and the viewBox is in mm too).
-      const double scale = pdf ? kPtPerM : 1000.0;
-      cairo_surface_t* s =
-          pdf ? cairo_pdf_surface_create(temp.c_str(), w_pt, h_pt)
-              : cairo_svg_surface_create(temp.c_str(), sheet.width_m * 1000.0,
-                                         sheet.height_m * 1000.0);
-      if (!pdf) cairo_svg_surface_set_document_unit(s, CAIRO_SVG_UNIT_MM);
-      if (pdf)
-        cairo_pdf_surface_set_metadata(s, CAIRO_PDF_METADATA_TITLE,
-                                       sheet.title.c_str());
-      cairo_t* cr = cairo_create(s);
-      cairo_scale(cr, scale, scale);
-      Draw(cr, sheet, *family, f);
-      cairo_destroy(cr);
-      cairo_surface_finish(s);
-      const bool ok = cairo_surface_status(s) == CAIRO_STATUS_SUCCESS;
-      cairo_surface_destroy(s);
-      if (!ok) *e = "cannot write '" + temp + "'";
-      return ok;
-    };
-  };
-  auto png_writer = [&](const std::string& temp, std::string* e) {
-    const double px_per_m = png_dpi / 0.0254;
-    const int w = static_cast<int>(std::lround(sheet.width_m * px_per_m));
-    const int h = static_cast<int>(std::lround(sheet.height_m * px_per_m));
-    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w, h);
-    cairo_t* cr = cairo_create(s);
-    cairo_scale(cr, px_per_m, px_per_m);
-    Draw(cr, sheet, *family, f);
-    cairo_destroy(cr);
-    const bool ok =
-        cairo_surface_write_to_png(s, temp.c_str()) == CAIRO_STATUS_SUCCESS &&
-        AddPngResolution(temp, png_dpi);
-    cairo_surface_destroy(s);
-    if (!ok) *e = "cannot write '" + temp + "'";
-    return ok;
-  };
-  for (const char* ext : {".pdf", ".svg", ".png"}) {
-    const std::string path = base + ext;
-    bool ok;
-    if (std::string(ext) == ".png")
-      ok = WriteAtomically(path, png_writer, error);
-    else
-      ok = WriteAtomically(path, vector_writer(std::string(ext) == ".pdf"),
-                           error);
-    if (!ok) return false;
-    written->push_back(path);
-  }
   return true;
 }
 

@@ -3,8 +3,8 @@
 // chessboard. A sheet is first laid out as plain shapes in sheet
 // coordinates (metres, origin at the top-left corner of the page, x right,
 // y down), then drawn with Cairo to PDF, SVG (width/height in mm) and PNG
-// (with its resolution in the pHYs chunk). Tags are drawn cell by cell from
-// the family's own bitmap (tracking::MakeTagBitmap).
+// (with its resolution in the pHYs chunk) by calib/sheet_writer.h. Tags are
+// drawn cell by cell from the family's own bitmap (tracking::MakeTagBitmap).
 #ifndef RIPPLE_CALIB_MARKER_SHEET_H_
 #define RIPPLE_CALIB_MARKER_SHEET_H_
 
@@ -111,11 +111,6 @@ bool MakeCubeNetSheet(const tracking::Rig& rig, const PaperSize& paper,
 bool MakeChessboardSheet(int cols, int rows, double square_m,
                          const PaperSize& paper, Sheet* sheet,
                          std::string* error);
-
-// Writes `base`.pdf, `base`.svg and `base`.png (at `png_dpi`), each through
-// a temporary file; appends the written paths to `written`.
-bool WriteSheet(const Sheet& sheet, const std::string& base, double png_dpi,
-                std::vector<std::string>* written, std::string* error);
 
 }  // namespace ripple::calib
 

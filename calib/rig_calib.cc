@@ -301,4 +301,27 @@ bool CalibrateTagLayout(
   return true;
 }
 
+int ViewsWithTwoTags(const std::vector<tracking::TagPlacement>& tags,
+                     const std::vector<std::vector<tracking::TagDetection>>&
+                         detections_per_view) {
+  int n = 0;
+  for (const auto& detections : detections_per_view) {
+    int seen = 0;
+    for (const auto& d : detections)
+      for (const auto& t : tags) seen += t.id == d.id;
+    n += seen >= 2;
+  }
+  return n;
+}
+
+LayoutObject ChooseLayoutObject(
+    const tracking::Rig& rig,
+    const std::vector<std::vector<tracking::TagDetection>>&
+        detections_per_view) {
+  return rig.pen && ViewsWithTwoTags(rig.pen->faces, detections_per_view) >=
+                        ViewsWithTwoTags(rig.tank_tags, detections_per_view)
+             ? LayoutObject::kPen
+             : LayoutObject::kTank;
+}
+
 }  // namespace ripple::calib

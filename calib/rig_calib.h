@@ -85,6 +85,23 @@ bool CalibrateTagLayout(
     std::vector<tracking::TagPlacement>* calibrated, RigCalibSummary* summary,
     std::string* error);
 
+// The two tag layouts of a rig that `ripple calib rig` can refine.
+enum class LayoutObject { kTank, kPen };
+
+// Views (entries of `detections_per_view`) in which at least two of `tags`
+// are detected together: the views a layout adjustment can use.
+int ViewsWithTwoTags(const std::vector<tracking::TagPlacement>& tags,
+                     const std::vector<std::vector<tracking::TagDetection>>&
+                         detections_per_view);
+
+// The layout a recording was made for: the pen's cube faces when the rig has
+// a pen and its faces are seen together at least as often as the board's
+// tags, else the board.
+LayoutObject ChooseLayoutObject(
+    const tracking::Rig& rig,
+    const std::vector<std::vector<tracking::TagDetection>>&
+        detections_per_view);
+
 }  // namespace ripple::calib
 
 #endif  // RIPPLE_CALIB_RIG_CALIB_H_

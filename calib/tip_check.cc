@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+
+#include "calib/calib_io.h"
 
 namespace ripple::calib {
 
@@ -103,6 +106,33 @@ bool EvaluateTipCheck(const TipCheckOptions& options,
   }
   summary->rms_m = std::sqrt(sse / summary->touches.size());
   return true;
+}
+
+bool WriteTipCheckCsv(const TipCheckSummary& summary, const std::string& path,
+                      std::string* error) {
+  return WriteAtomically(
+      path,
+      [&](const std::string& temp, std::string* e) {
+        std::ofstream f(temp);
+        f << "point,x_m,y_m,z_m,measured_x_m,measured_y_m,measured_z_m,"
+             "samples,start_s,end_s,error_m,error_xy_m,error_z_m\n";
+        for (const TouchResult& t : summary.touches) {
+          char line[512];
+          std::snprintf(line, sizeof(line),
+                        "%s,%.5f,%.5f,%.5f,%.5f,%.5f,%.5f,%d,%.3f,%.3f,%.5f,"
+                        "%.5f,%.5f\n",
+                        t.name.c_str(), t.point_in_tank.x(),
+                        t.point_in_tank.y(), t.point_in_tank.z(),
+                        t.measured_in_tank.x(), t.measured_in_tank.y(),
+                        t.measured_in_tank.z(), t.samples, t.start_s, t.end_s,
+                        t.error_m, t.error_xy_m, t.error_z_m);
+          f << line;
+        }
+        f.close();
+        if (!f) *e = "cannot write '" + path + "'";
+        return static_cast<bool>(f);
+      },
+      error);
 }
 
 }  // namespace ripple::calib

@@ -65,6 +65,11 @@ bool EvaluateTipCheck(const TipCheckOptions& options,
                       const std::vector<TipSample>& samples,
                       TipCheckSummary* summary, std::string* error);
 
+// Writes the touches as CSV (header point,x_m,...,error_z_m; one row per
+// touch) to `path`, atomically (calib/calib_io.h). False with `error`.
+bool WriteTipCheckCsv(const TipCheckSummary& summary, const std::string& path,
+                      std::string* error);
+
 }  // namespace ripple::calib
 
 #endif  // RIPPLE_CALIB_TIP_CHECK_H_

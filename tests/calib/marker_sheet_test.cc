@@ -12,6 +12,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <set>
 
+#include "calib/sheet_writer.h"
 #include "tracking/tag_detector.h"
 
 namespace ripple::calib {

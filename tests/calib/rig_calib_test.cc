@@ -188,5 +188,37 @@ TEST(RigCalibTest, NoTargetIsAnError) {
   EXPECT_NE(error.find("reference tag 99"), std::string::npos) << error;
 }
 
+// Views of detections, each listing tag ids seen together.
+std::vector<std::vector<tracking::TagDetection>> ViewsOf(
+    const std::vector<std::vector<int>>& ids_per_view) {
+  std::vector<std::vector<tracking::TagDetection>> views;
+  for (const auto& ids : ids_per_view) {
+    views.emplace_back();
+    for (int id : ids) views.back().push_back({id, {}, 0, 0});
+  }
+  return views;
+}
+
+TEST(LayoutChoiceTest, PicksTheObjectWhoseTagsAreSeenTogetherMore) {
+  const tracking::Rig rig = DefaultRig();
+  ASSERT_TRUE(rig.pen);
+  ASSERT_GE(rig.pen->faces.size(), 2u);
+  ASSERT_GE(rig.tank_tags.size(), 2u);
+  const int p0 = rig.pen->faces[0].id, p1 = rig.pen->faces[1].id;
+  const int t0 = rig.tank_tags[0].id, t1 = rig.tank_tags[1].id;
+  const auto pen_views = ViewsOf({{p0, p1}, {p0, p1, t0}, {t0, t1}});
+  EXPECT_EQ(ViewsWithTwoTags(rig.pen->faces, pen_views), 2);
+  EXPECT_EQ(ViewsWithTwoTags(rig.tank_tags, pen_views), 1);
+  EXPECT_EQ(ChooseLayoutObject(rig, pen_views), LayoutObject::kPen);
+  const auto board_views = ViewsOf({{t0, t1}, {t0, t1, p0}, {p0}});
+  EXPECT_EQ(ChooseLayoutObject(rig, board_views), LayoutObject::kTank);
+  // A tie goes to the pen; a rig without a pen is always the board.
+  EXPECT_EQ(ChooseLayoutObject(rig, ViewsOf({{p0, p1}, {t0, t1}})),
+            LayoutObject::kPen);
+  tracking::Rig no_pen = rig;
+  no_pen.pen.reset();
+  EXPECT_EQ(ChooseLayoutObject(no_pen, pen_views), LayoutObject::kTank);
+}
+
 }  // namespace
 }  // namespace ripple::calib

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 #include "tests/shipped_data.h"
 
@@ -66,6 +69,35 @@ TEST(TipCheckTest, NoTouchIsAnError) {
   EXPECT_FALSE(
       EvaluateTipCheck(TipCheckOptions(), points, samples, &summary, &error));
   EXPECT_NE(error.find("no touch"), std::string::npos);
+}
+
+TEST(TipCheckTest, WritesTheTouchesAsCsv) {
+  TipCheckSummary summary;
+  TouchResult touch;
+  touch.name = "P2";
+  touch.point_in_tank = Eigen::Vector3d(0.0425, 0.0275, 0);
+  touch.measured_in_tank = Eigen::Vector3d(0.0435, 0.0275, 0.0005);
+  touch.samples = 30;
+  touch.start_s = 0.5;
+  touch.end_s = 1.5;
+  touch.error_m = 0.00112;
+  touch.error_xy_m = 0.001;
+  touch.error_z_m = 0.0005;
+  summary.touches.push_back(touch);
+  const std::string path = ::testing::TempDir() + "/tip_check_test.csv";
+  std::string error;
+  ASSERT_TRUE(WriteTipCheckCsv(summary, path, &error)) << error;
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str(),
+            "point,x_m,y_m,z_m,measured_x_m,measured_y_m,measured_z_m,"
+            "samples,start_s,end_s,error_m,error_xy_m,error_z_m\n"
+            "P2,0.04250,0.02750,0.00000,0.04350,0.02750,0.00050,30,0.500,"
+            "1.500,0.00112,0.00100,0.00050\n");
+  std::remove(path.c_str());
+  EXPECT_FALSE(WriteTipCheckCsv(summary, "/nonexistent/dir/check.csv", &error));
+  EXPECT_FALSE(error.empty());
 }
 
 }  // namespace

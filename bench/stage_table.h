@@ -3,13 +3,13 @@
 // caustics, shadow, total (milliseconds; median and p95 over the frames).
 // `total` is everything after capture up to a finished frame in memory; it
 // excludes video encoding.
-#ifndef RIPPLE_APP_APP_TIMING_H_
-#define RIPPLE_APP_APP_TIMING_H_
+#ifndef RIPPLE_BENCH_STAGE_TABLE_H_
+#define RIPPLE_BENCH_STAGE_TABLE_H_
 
 #include <string>
 #include <vector>
 
-namespace ripple::app {
+namespace ripple::bench {
 
 struct StageTimes {
   double cap = 0;       // capture: read / decode / synthesise the frame
@@ -26,7 +26,11 @@ class StageTable {
  public:
   void Add(const StageTimes& t) { rows_.push_back(t); }
   size_t size() const { return rows_.size(); }
-  // A table: one row per statistic (median, p95), one column per stage,
+  // Per-stage median of the last `last` rows (all when fewer): the live
+  // HUD's steady figures.
+  StageTimes RecentMedian(size_t last) const;
+  // A table: one row per statistic (median, p95, nearest rank), one column
+  // per stage,
   // titled with `label` and the frame count.
   std::string Format(const std::string& label) const;
   // Appends rows "label,stat,cap,...,total,frames" to a CSV file.
@@ -37,9 +41,6 @@ class StageTable {
   std::vector<StageTimes> rows_;
 };
 
-// Median and p95 (nearest rank) of a sample; 0 for an empty one.
-double Percentile(std::vector<double> v, double p);
+}  // namespace ripple::bench
 
-}  // namespace ripple::app
-
-#endif  // RIPPLE_APP_APP_TIMING_H_
+#endif  // RIPPLE_BENCH_STAGE_TABLE_H_

@@ -1,11 +1,10 @@
-#include "app/app_timing.h"
+#include "bench/stage_table.h"
 
-#include <algorithm>
-#include <cmath>
 #include <cstdio>
-#include <functional>
 
-namespace ripple::app {
+#include "bench/stats.h"
+
+namespace ripple::bench {
 namespace {
 
 struct Column {
@@ -20,11 +19,16 @@ const Column kColumns[] = {
 
 }  // namespace
 
-double Percentile(std::vector<double> v, double p) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const size_t rank = static_cast<size_t>(std::ceil(p / 100.0 * v.size()));
-  return v[std::clamp<size_t>(rank, 1, v.size()) - 1];
+StageTimes StageTable::RecentMedian(size_t last) const {
+  const size_t first = rows_.size() > last ? rows_.size() - last : 0;
+  StageTimes median;
+  for (const Column& c : kColumns) {
+    std::vector<double> v;
+    for (size_t i = first; i < rows_.size(); ++i)
+      v.push_back(rows_[i].*(c.field));
+    median.*(c.field) = Percentile(v, 50);
+  }
+  return median;
 }
 
 std::string StageTable::Format(const std::string& label) const {
@@ -80,4 +84,4 @@ bool StageTable::AppendCsv(const std::string& path, const std::string& label,
   return ok;
 }
 
-}  // namespace ripple::app
+}  // namespace ripple::bench

@@ -1,0 +1,90 @@
+// The frame loop's output sinks (app/app_loop.h): the window, a video file,
+// PNG snapshots, the pose CSV and the raw camera recording. Each one writes
+// what it is given and finalizes its file on Close(), so whatever ended the
+// loop leaves playable and complete outputs.
+#ifndef RIPPLE_APP_APP_SINKS_H_
+#define RIPPLE_APP_APP_SINKS_H_
+
+#include <string>
+
+#include "app/app_loop.h"
+#include "app/app_raw.h"
+#include "app/app_video.h"
+#include "tracking/pose_csv.h"
+
+namespace ripple::app {
+
+// Shows each finished frame in the pipeline's window; stops the loop
+// (normally) when the window is closed.
+class WindowSink : public FrameSink {
+ public:
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+};
+
+// The composite frames as a video (app/app_video.h); writes nothing while
+// closed, so live can start and stop recordings.
+class VideoSink : public FrameSink {
+ public:
+  bool Open(const std::string& path, double fps, cv::Size size,
+            std::string* error) {
+    return video_.Open(path, fps, size, error);
+  }
+  bool is_open() const { return video_.is_open(); }
+  const std::string& codec() const { return video_.codec(); }
+  bool WantsComposite(int) const override { return video_.is_open(); }
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+  void Close() override { video_.Close(); }
+
+ private:
+  VideoOut video_;
+};
+
+// Writes the composite of one frame as PNG. A failed write stops the loop
+// with `exit_code` and "cannot write <what>'<path>'".
+class PngSink : public FrameSink {
+ public:
+  struct Options {
+    std::string path;
+    int frame = 0;      // index of the frame to write
+    std::string what;   // "snapshot " or empty: names the file in errors
+    int exit_code = 1;  // on a failed write
+  };
+  explicit PngSink(Options options) : options_(std::move(options)) {}
+  bool WantsComposite(int index) const override {
+    return index == options_.frame;
+  }
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+
+ private:
+  Options options_;
+};
+
+// The tracked poses of every frame (tracking/pose_csv.h). A failed write
+// stops the loop with exit code 1.
+class PoseCsvSink : public FrameSink {
+ public:
+  bool Open(const std::string& path, std::string* error);
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+  void Close() override { writer_.Close(); }
+
+ private:
+  std::string path_;
+  tracking::PoseCsvWriter writer_;
+};
+
+// The raw input frames, losslessly, with their timestamps (app/app_raw.h);
+// writes nothing while closed. A failed write stops the loop with exit
+// code 1.
+class RawSink : public FrameSink {
+ public:
+  RawRecorder& recorder() { return raw_; }
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+  void Close() override { raw_.Close(); }
+
+ private:
+  RawRecorder raw_;
+};
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_SINKS_H_

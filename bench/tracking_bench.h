@@ -1,0 +1,117 @@
+// The tracking benchmark behind `ripple bench tracking`: run time against
+// error of the tracker's settings and of three baselines on synth's
+// benchmark preset, rendered in memory.
+//
+// Frames are rendered once and every setting runs on each frame in turn.
+// Settings without region search share one full-frame detection per
+// decimation (timed once per frame and charged to each of them); settings
+// with region search detect on their own. The baselines get the corrected
+// corners of the default decimation's detection and are charged its time.
+#ifndef RIPPLE_BENCH_TRACKING_BENCH_H_
+#define RIPPLE_BENCH_TRACKING_BENCH_H_
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "tracking/camera.h"
+#include "tracking/rig.h"
+#include "tracking/tracker.h"
+
+namespace ripple::bench {
+
+// Pose methods compared against the tracker (tracking/baselines.h).
+enum class Baseline {
+  kNone,     // the tracker with the setting's options
+  kPaper,    // frontal face, apriltag's estimate_tag_pose
+  kIppe,     // OpenCV IPPE_SQUARE on the best-posed face
+  kSqpnpLm,  // OpenCV SQPNP + LM on all corners
+};
+
+// Which settings a run compares.
+enum class Sweep {
+  kFull,     // decimation x refinement x pen mode x region search
+  kShort,    // one factor at a time around the default
+  kDefault,  // the default setting only, no baselines
+};
+
+// One setting under test and its per-frame samples.
+struct TrackingSetting {
+  std::string name;  // "d2 joint ceres roi dense [default]", ...
+  Baseline baseline = Baseline::kNone;
+  tracking::TrackerOptions options;  // kNone only
+  std::unique_ptr<tracking::Tracker> tracker;
+  // One entry per frame where the quantity exists: milliseconds, degrees,
+  // millimetres.
+  std::vector<double> ms, tank_rot_deg, tank_mm, pen_rot_deg, pen_mm, tip_mm;
+  int flips = 0;  // frames with a tank or pen rotation error over 10 degrees
+  int tank_tracked = 0, tank_visible = 0, pen_tracked = 0, pen_visible = 0;
+
+  bool is_default() const;
+};
+
+// The settings of `sweep` (trackers not yet built), detector threads set.
+std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(Sweep sweep,
+                                                                   int threads);
+
+struct TrackingBenchOptions {
+  Sweep sweep = Sweep::kShort;
+  int frames = 500;  // frames of the benchmark preset
+  int first = 0;     // frames before this are neither rendered nor tracked
+  int threads = 1;   // detector threads
+  uint64_t seed = 1;
+};
+
+// Per-frame errors of one setting: a row of the frames CSV.
+struct TrackingFrameRow {
+  int frame = 0;
+  std::string setting;
+  double tank_rot_deg = 0, pen_rot_deg = 0, tip_mm = 0;  // NaN when absent
+  bool flip = false;
+  int pen_faces_visible = 0;  // ground truth
+  double pen_face_px = 0;     // largest detected pen face, pixels
+  std::string pen_status;     // tracker's, empty for baselines
+  std::string pen_tags;       // faces used, '+'-separated
+  bool pen_flip_rejected = false, pen_jumped = false, pen_ambiguous = false;
+};
+
+struct TrackingBenchResult {
+  std::vector<std::unique_ptr<TrackingSetting>> settings;
+  std::vector<TrackingFrameRow> frame_rows;  // only when asked for
+  double render_s = 0;                       // synthesising the frames
+  double tracking_s = 0;                     // everything else
+};
+
+// Runs every setting on the frames of `camera` (already at the benchmark's
+// size). `keep_frame_rows` fills result->frame_rows; `progress(done, total)`
+// is called every 50 frames. False with `error` when the sequence cannot be
+// made.
+bool RunTrackingBench(const TrackingBenchOptions& options,
+                      const tracking::Camera& camera, const tracking::Rig& rig,
+                      bool keep_frame_rows,
+                      const std::function<void(int, int)>& progress,
+                      TrackingBenchResult* result, std::string* error);
+
+// The markdown table printed per size: heading line, header and one row per
+// setting.
+std::string FormatTrackingTable(const TrackingBenchOptions& options,
+                                const std::string& size,
+                                const TrackingBenchResult& result);
+
+// Header of the summary CSV (bench_tracking.csv), then one row per setting.
+void WriteTrackingCsvHeader(std::ostream* csv);
+void WriteTrackingCsvRows(const TrackingBenchOptions& options,
+                          const std::string& size,
+                          const TrackingBenchResult& result, std::ostream* csv);
+// Header of the per-frame CSV (bench_tracking_frames.csv), then its rows.
+void WriteTrackingFramesCsvHeader(std::ostream* csv);
+void WriteTrackingFramesCsvRows(const std::string& size,
+                                const TrackingBenchResult& result,
+                                std::ostream* csv);
+
+}  // namespace ripple::bench
+
+#endif  // RIPPLE_BENCH_TRACKING_BENCH_H_

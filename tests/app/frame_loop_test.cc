@@ -1,0 +1,170 @@
+// The frame loop on a scripted source: every frame reaches every sink in
+// order, sinks are asked about read-back and closed however the loop ends,
+// and a sink, a hook or the source can end it.
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "app/app_loop.h"
+#include "tests/shipped_data.h"
+
+namespace ripple::app {
+namespace {
+
+using ::testing::ElementsAre;
+
+// `frames` grey frames 1/30 s apart; fails after them when `fail` is set.
+class ScriptedSource : public FrameSource {
+ public:
+  ScriptedSource(cv::Size size, int frames, bool fail)
+      : FrameSource(Kind::kSynthetic, "scripted"),
+        frames_(frames),
+        fail_(fail) {
+    size_ = size;
+  }
+  bool Read(cv::Mat* bgr, double* time_s) override {
+    if (frames_read_ == frames_) {
+      if (fail_) error_ = "scripted failure";
+      return false;
+    }
+    *bgr = cv::Mat(size_, CV_8UC3, cv::Scalar(128, 128, 128));
+    *time_s = frames_read_ / 30.0;
+    ++frames_read_;
+    return true;
+  }
+
+ private:
+  int frames_;
+  bool fail_;
+};
+
+// Records what it saw; stops the loop at frame `stop_at` (-1: never).
+class RecordingSink : public FrameSink {
+ public:
+  explicit RecordingSink(int stop_at = -1) : stop_at_(stop_at) {}
+  bool WantsComposite(int index) const override { return index == 1; }
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override {
+    indices.push_back(frame.index);
+    times.push_back(frame.input->time_s);
+    if (frame.index == stop_at_) {
+      stop->exit_code = 1;
+      stop->message = "stopped";
+      return false;
+    }
+    return true;
+  }
+  void Close() override { ++closed; }
+  std::vector<int> indices;
+  std::vector<double> times;
+  int closed = 0;
+
+ private:
+  int stop_at_;
+};
+
+class FrameLoopTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    camera_ = test_data::DefaultCamera().Scaled(160, 120);
+    PipelineOptions options;
+    options.backend = render::Backend::kEgl;
+    std::string error;
+    pipeline_ =
+        Pipeline::Create(camera_, test_data::DefaultRig(), options, &error);
+    if (!pipeline_) GTEST_SKIP() << "no headless GL context: " << error;
+  }
+  cv::Size size() const { return {camera_.width, camera_.height}; }
+  tracking::Camera camera_;
+  std::unique_ptr<Pipeline> pipeline_;
+};
+
+TEST_F(FrameLoopTest, EveryFrameReachesEverySinkAndSinksAreClosed) {
+  ScriptedSource source(size(), 4, false);
+  RecordingSink a, b;
+  std::vector<int> before;
+  FrameLoopHooks hooks;
+  hooks.before_frame = [&](int index) { before.push_back(index); };
+  FrameLoopSummary summary;
+  RunFrameLoop(hooks, &source, nullptr, pipeline_.get(), {&a, &b}, &summary);
+  EXPECT_EQ(summary.frames, 4);
+  EXPECT_FALSE(summary.stopped);
+  EXPECT_TRUE(summary.source_error.empty());
+  EXPECT_THAT(a.indices, ElementsAre(0, 1, 2, 3));
+  EXPECT_THAT(b.indices, ElementsAre(0, 1, 2, 3));
+  EXPECT_THAT(before, ElementsAre(0, 1, 2, 3));
+  EXPECT_DOUBLE_EQ(a.times[3], 3 / 30.0);
+  EXPECT_EQ(a.closed, 1);
+  EXPECT_EQ(b.closed, 1);
+}
+
+TEST_F(FrameLoopTest, AFirstFrameReadBeforeTheLoopIsProcessedFirst) {
+  ScriptedSource source(size(), 3, false);
+  SourceFrame first;
+  ASSERT_TRUE(ReadSourceFrame(&source, &first));
+  EXPECT_GE(first.cap_ms, 0.0);
+  RecordingSink sink;
+  FrameLoopSummary summary;
+  RunFrameLoop(FrameLoopHooks(), &source, &first, pipeline_.get(), {&sink},
+               &summary);
+  EXPECT_EQ(summary.frames, 3);
+  EXPECT_THAT(sink.times, ElementsAre(0.0, 1 / 30.0, 2 / 30.0));
+}
+
+TEST_F(FrameLoopTest, ASinkStopsTheLoopAndLaterSinksMissThatFrame) {
+  ScriptedSource source(size(), 10, true);
+  RecordingSink stopper(2), after;
+  FrameLoopSummary summary;
+  RunFrameLoop(FrameLoopHooks(), &source, nullptr, pipeline_.get(),
+               {&stopper, &after}, &summary);
+  EXPECT_TRUE(summary.stopped);
+  EXPECT_EQ(summary.stop.exit_code, 1);
+  EXPECT_EQ(summary.stop.message, "stopped");
+  EXPECT_TRUE(summary.source_error.empty());  // it never got there
+  EXPECT_THAT(after.indices, ElementsAre(0, 1));
+  EXPECT_EQ(after.closed, 1);
+}
+
+TEST_F(FrameLoopTest, SourceFailureIsReportedAfterTheFramesBeforeIt) {
+  ScriptedSource source(size(), 2, true);
+  RecordingSink sink;
+  FrameLoopSummary summary;
+  RunFrameLoop(FrameLoopHooks(), &source, nullptr, pipeline_.get(), {&sink},
+               &summary);
+  EXPECT_EQ(summary.frames, 2);
+  EXPECT_EQ(summary.source_error, "scripted failure");
+  EXPECT_EQ(sink.closed, 1);
+}
+
+TEST_F(FrameLoopTest, PausedTurnsNeitherReadNorProcess) {
+  ScriptedSource source(size(), 3, false);
+  RecordingSink sink;
+  int turns = 0, idle = 0;
+  FrameLoopHooks hooks;
+  // Paused for turns 2 to 4 (after the first frame).
+  hooks.paused = [&] { return turns >= 1 && turns < 4; };
+  hooks.while_paused = [&] { ++idle; };
+  hooks.after_turn = [&](LoopStop*) {
+    ++turns;
+    return true;
+  };
+  FrameLoopSummary summary;
+  RunFrameLoop(hooks, &source, nullptr, pipeline_.get(), {&sink}, &summary);
+  EXPECT_EQ(summary.frames, 3);
+  EXPECT_EQ(idle, 3);
+  EXPECT_EQ(turns, 6);
+  EXPECT_THAT(sink.indices, ElementsAre(0, 1, 2));
+}
+
+TEST_F(FrameLoopTest, AfterTurnEndsTheLoop) {
+  ScriptedSource source(size(), 10, false);
+  RecordingSink sink;
+  FrameLoopHooks hooks;
+  hooks.after_turn = [&](LoopStop*) { return sink.indices.size() < 2; };
+  FrameLoopSummary summary;
+  RunFrameLoop(hooks, &source, nullptr, pipeline_.get(), {&sink}, &summary);
+  EXPECT_TRUE(summary.stopped);
+  EXPECT_EQ(summary.stop.exit_code, 0);
+  EXPECT_EQ(summary.frames, 2);
+}
+
+}  // namespace
+}  // namespace ripple::app

@@ -82,36 +82,43 @@ LiveSession::LiveSession(const LiveSessionOptions& options, Pipeline* pipeline,
 }
 
 void LiveSession::BuildKeyTable() {
-  using W = sim::WaterOptions;
+  using W = sim::WaterModelOptions;
   keys_ = {
       {{'h'}, "this help", [this](int) { help_ = !help_; }},
       {{'v', 'V'},
        "viscosity down/up",
        [this](int key) {
          ChangeWater([key](W* w) {
-           w->viscosity_per_s = key == 'v'
-                                    ? w->viscosity_per_s / 1.5
-                                    : std::max(0.1, w->viscosity_per_s * 1.5);
+           if (w->waves == sim::WaveModel::kPaper) {
+             double& v = w->paper.viscosity_per_s;
+             v = key == 'v' ? v / 1.5 : std::max(0.1, v * 1.5);
+           } else {
+             // Half a decade a press: water 1e-6 to honey 1e-2 in eight.
+             double& nu = w->spectral.physics.kinematic_viscosity_m2_per_s;
+             nu = key == 'v'
+                      ? nu / std::sqrt(10.0)
+                      : std::min(1.0, std::max(1e-7, nu * std::sqrt(10.0)));
+           }
          });
        }},
       {{'r', 'R'},
        "radius down/up",
        [this](int key) {
          ChangeWater([key](W* w) {
-           if (key == 'r')
-             w->pen_radius_m /= 1.25;
-           else
-             w->pen_radius_m *= 1.25;
+           const double f = key == 'r' ? 1 / 1.25 : 1.25;
+           w->paper.pen_radius_m *= f;
+           w->spectral.pen_radius_m *= f;
          });
        }},
       {{'f', 'F'},
        "force down/up",
        [this](int key) {
          ChangeWater([key](W* w) {
-           if (key == 'f')
-             w->pen_strength_m_per_s2 /= 1.5;
-           else
-             w->pen_strength_m_per_s2 *= 1.5;
+           const double f = key == 'f' ? 1 / 1.5 : 1.5;
+           w->paper.pen_strength_m_per_s2 *= f;
+           w->spectral.pen_strength_m_per_s2 *= f;
+           w->spectral.pen_pressure_coefficient =
+               std::min(100.0, w->spectral.pen_pressure_coefficient * f);
          });
        }},
       {{'c'},
@@ -178,8 +185,8 @@ bool LiveSession::HandleKey(int key) {
 }
 
 void LiveSession::ChangeWater(
-    const std::function<void(sim::WaterOptions*)>& change) {
-  sim::WaterOptions w = pipeline_->water().options();
+    const std::function<void(sim::WaterModelOptions*)>& change) {
+  sim::WaterModelOptions w = pipeline_->water().options();
   change(&w);
   std::string error;
   if (!pipeline_->water().SetOptions(w, &error)) status_line_ = error;
@@ -261,7 +268,7 @@ std::vector<std::string> LiveSession::HudLines() const {
                          ? (frame_times_s_.size() - 1) /
                                (frame_times_s_.back() - frame_times_s_.front())
                          : 0.0;
-  const sim::WaterOptions& w = pipeline_->water().options();
+  const sim::WaterModelOptions& w = pipeline_->water().options();
   const render::Effects& fx = pipeline_->effects();
   char buf[256];
   std::vector<std::string> lines;
@@ -276,11 +283,23 @@ std::vector<std::string> LiveSession::HudLines() const {
                 m.cap, m.det, m.pose, m.sim, m.caustics, m.shadow, m.drw,
                 m.total);
   lines.push_back(buf);
-  std::snprintf(
-      buf, sizeof(buf),
-      "viscosity %.2f/s  radius %.1f mm  force %.1f m/s2  obstacles %d",
-      w.viscosity_per_s, 1e3 * w.pen_radius_m, w.pen_strength_m_per_s2,
-      pipeline_->num_obstacles());
+  if (w.waves == sim::WaveModel::kPaper) {
+    std::snprintf(
+        buf, sizeof(buf),
+        "paper: damping %.2f/s  radius %.1f mm  force %.1f m/s2  obstacles %d",
+        w.paper.viscosity_per_s, 1e3 * w.paper.pen_radius_m,
+        w.paper.pen_strength_m_per_s2, pipeline_->num_obstacles());
+  } else {
+    const sim::SpectralWaterOptions& c = w.spectral;
+    std::snprintf(buf, sizeof(buf),
+                  "nu %.1e m2/s  radius %.1f mm  %s x%.2f  obstacles %d",
+                  c.physics.kinematic_viscosity_m2_per_s, 1e3 * c.pen_radius_m,
+                  c.pen == sim::PenModel::kPaperPush ? "push" : "pressure",
+                  c.pen == sim::PenModel::kPaperPush
+                      ? c.pen_strength_m_per_s2
+                      : c.pen_pressure_coefficient,
+                  pipeline_->num_obstacles());
+  }
   lines.push_back(buf);
   std::snprintf(buf, sizeof(buf),
                 "caustics %s shadows %s reflection %s refraction %s%s%s",

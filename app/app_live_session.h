@@ -65,7 +65,7 @@ class LiveSession : public FrameSink {
 
  private:
   void BuildKeyTable();
-  void ChangeWater(const std::function<void(sim::WaterOptions*)>& change);
+  void ChangeWater(const std::function<void(sim::WaterModelOptions*)>& change);
   void AddObstacle();
   void Screenshot();
   void ToggleVideo();

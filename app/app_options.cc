@@ -6,25 +6,9 @@
 namespace ripple::app {
 
 void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
-  PipelineOptions& o = args->options;
   sub->add_option("--gl", args->gl,
                   "GL backend: glfw (window), egl or osmesa (headless)");
-  sub->add_option("--sim-cells", o.sim_cells_x,
-                  "Water cells along the tank's long side")
-      ->capture_default_str();
-  sub->add_option("--wave-speed", o.water.wave_speed_m_per_s,
-                  "Wave speed c, m/s")
-      ->capture_default_str();
-  sub->add_option(
-         "--viscosity", o.water.viscosity_per_s,
-         "Velocity damping, 1/s (amplitude decays as exp(-viscosity*t/2))")
-      ->capture_default_str();
-  sub->add_option("--force", o.water.pen_strength_m_per_s2,
-                  "Pen force s, m/s^2")
-      ->capture_default_str();
-  sub->add_option("--radius", o.water.pen_radius_m,
-                  "Pen push radius r, m (small r: high frequency)")
-      ->capture_default_str();
+  AddWaterOptions(sub, &args->water);
   sub->add_flag("--no-caustics", args->no_caustics,
                 "Disable the caustics pass");
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
@@ -41,6 +25,9 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
     return false;
   }
   PipelineOptions& o = args->options;
+  if (!ResolveWaterOptions(args->water, &o.water, &o.sim_cells_x, error))
+    return false;
+  o.keep_push_radius = args->water.radius_m != -1;
   o.backend = *backend;
   o.window = *backend == render::Backend::kGlfw;
   o.effects.caustics = !args->no_caustics;

@@ -8,18 +8,19 @@
 #include <string>
 
 #include "app/app_pipeline.h"
+#include "app/app_water.h"
 
 namespace ripple::app {
 
 struct PipelineArgs {
   std::string gl;  // empty: the command's default
   PipelineOptions options;
+  WaterArgs water;
   bool no_caustics = false, no_shadows = false, no_reflection = false,
        no_refraction = false;
 };
 
-// Adds --gl, --sim-cells, --wave-speed, --viscosity, --force, --radius,
-// --pen-mode, --no-caustics, ... to `sub`.
+// Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.
 void AddPipelineOptions(CLI::App* sub, PipelineArgs* args);
 
 // Resolves the backend and toggles into args->options; false with `error`.

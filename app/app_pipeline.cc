@@ -1,16 +1,11 @@
 #include "app/app_pipeline.h"
 
 #include "app/app_obstacles.h"
+#include "app/app_water.h"
 #include "bench/stats.h"
+#include "sim/water_factory.h"
 
 namespace ripple::app {
-namespace {
-
-// Where removed obstacles are parked: far outside any tank.
-const tracking::Pose kParked(Eigen::Quaterniond::Identity(),
-                             Eigen::Vector3d(1e3, 1e3, 0));
-
-}  // namespace
 
 bool PipelineOptions::IsValid(std::string* error) const {
   if (!tracker.IsValid(error)) return false;
@@ -41,11 +36,12 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->tracker_ =
       std::make_unique<tracking::Tracker>(camera, rig, options.tracker);
 
-  const sim::GridSpec grid =
-      sim::GridSpec::ForTank(rig.tank.size_x_m, rig.tank.size_y_m,
-                             rig.tank.water_level_m, options.sim_cells_x);
-  if (!grid.IsValid(error)) return nullptr;
-  p->water_ = std::make_unique<sim::BasicWater<float>>(grid, options.water);
+  sim::GridSpec grid;
+  if (!WaterForRig(rig, options.sim_cells_x, options.keep_push_radius,
+                   &p->options_.water, &grid, error))
+    return nullptr;
+  p->water_ = sim::CreateWater(grid, p->options_.water, error);
+  if (!p->water_) return nullptr;
 
   // The rig's obstacles: in the sim (all shapes) and drawn (box, cylinder).
   if (!SimObstaclesFromRig(rig, &p->sim_obstacles_, error)) return nullptr;
@@ -102,13 +98,8 @@ bool Pipeline::AddObstacleAt(double x_m, double y_m, std::string* error) {
 }
 
 bool Pipeline::RemoveLastObstacle() {
-  // The water cannot forget an obstacle, so it is parked far outside the
-  // grid (its mask is recomputed once, as for any move).
-  for (int id = water_->num_obstacles() - 1; id >= 0; --id) {
-    const sim::RigidTransform parked = ToSim(kParked);
-    if (sim_obstacles_[id].tank_from_obstacle == parked) continue;
-    sim_obstacles_[id].tank_from_obstacle = parked;
-    water_->SetObstaclePose(id, parked);
+  for (int id = static_cast<int>(sim_obstacles_.size()) - 1; id >= 0; --id) {
+    if (!water_->RemoveObstacle(id)) continue;  // removed before
     drawn_obstacles_[id].reset();
     UpdateSceneObstacles();
     return true;
@@ -116,13 +107,7 @@ bool Pipeline::RemoveLastObstacle() {
   return false;
 }
 
-int Pipeline::num_obstacles() const {
-  const sim::RigidTransform parked = ToSim(kParked);
-  int n = 0;
-  for (const sim::Obstacle& o : sim_obstacles_)
-    n += o.tank_from_obstacle != parked;
-  return n;
-}
+int Pipeline::num_obstacles() const { return water_->num_obstacles(); }
 
 void Pipeline::UpdateSceneObstacles() {
   scene_.obstacles.clear();
@@ -168,6 +153,18 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     scene_.water.ny = view.ny;
     scene_.water.cell_size = static_cast<float>(view.cell_m);
     scene_.water.change_counter = view.counter;
+    // Synthesised only when the caustics are drawn and the surface changed.
+    scene_.caustics_water = {};
+    if (options_.effects.caustics) {
+      const sim::HeightFieldView coarse = water_->CoarseView();
+      if (coarse.heights != view.heights) {
+        scene_.caustics_water.heights = coarse.heights;
+        scene_.caustics_water.nx = coarse.nx;
+        scene_.caustics_water.ny = coarse.ny;
+        scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
+        scene_.caustics_water.change_counter = coarse.counter;
+      }
+    }
     scene_.pen_visible = tr.pen.has_pose() && rig_.pen.has_value();
     if (scene_.pen_visible)
       scene_.tank_from_pen =

@@ -13,7 +13,7 @@
 #include "bench/stage_table.h"
 #include "render/context.h"
 #include "render/renderer.h"
-#include "sim/water.h"
+#include "sim/water_surface.h"
 #include "tracking/camera.h"
 #include "tracking/rig.h"
 #include "tracking/tracker.h"
@@ -22,8 +22,10 @@ namespace ripple::app {
 
 struct PipelineOptions {
   tracking::TrackerOptions tracker;
-  sim::WaterOptions water;
-  int sim_cells_x = 128;  // simulation cells along the tank's long side
+  sim::WaterModelOptions water;
+  int sim_cells_x = 256;  // simulation cells along the tank's long side
+  // The push radius as given (else it follows the rig's shaft radius).
+  bool keep_push_radius = false;
   render::RendererOptions renderer;
   render::Effects effects;
   render::Backend backend = render::Backend::kEgl;
@@ -58,7 +60,7 @@ class Pipeline {
   const cv::Mat& composite() const { return composite_; }
 
   // Interactive controls (live keys).
-  sim::BasicWater<float>& water() { return *water_; }
+  sim::WaterSurface& water() { return *water_; }
   render::Effects& effects() { return options_.effects; }
   render::Renderer& renderer() { return *renderer_; }
   render::Context& context() { return *context_; }
@@ -79,7 +81,7 @@ class Pipeline {
   tracking::Rig rig_;
   PipelineOptions options_;
   std::unique_ptr<tracking::Tracker> tracker_;
-  std::unique_ptr<sim::BasicWater<float>> water_;
+  std::unique_ptr<sim::WaterSurface> water_;
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
   std::vector<sim::Obstacle> sim_obstacles_;

@@ -1,6 +1,8 @@
 // `ripple sim`: the water simulation alone, headless, driven by scripted pen
-// strokes. Prints statistics and timings; optionally writes the height field
-// as PNG frames or a video (top view, +y up, grey = rest level).
+// strokes and released drops. Prints statistics (surface slopes among them)
+// and timings; optionally writes the height field as float32 .npy frames
+// (metres) with frames.csv, as PNG frames or as a video (top view, +y up,
+// grey = rest level).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -15,9 +17,10 @@
 #include "app/app_common.h"
 #include "app/app_obstacles.h"
 #include "app/app_video.h"
+#include "app/app_water.h"
 #include "app/command.h"
 #include "bench/stats.h"
-#include "sim/water.h"
+#include "sim/water_factory.h"
 
 namespace ripple::app {
 namespace {
@@ -28,25 +31,35 @@ struct Stroke {
   double x0, y0, x1, y1, t0, t1;
 };
 
+// A Gaussian drop released from rest: displacement amp * exp(-r^2/(2 s^2))
+// added at time t (metres, seconds).
+struct Impulse {
+  double x, y, t, amp, radius;
+};
+
 struct SimArgs {
   std::string rig = DefaultRigPath();
   std::string out;
-  int resolution = 128;
+  std::string format;  // npy | png | video; empty: from --out
   double duration_s = 3.0;
   double fps = 60.0;
   double depth_m = 0.005;
   std::vector<std::string> strokes;
-  std::string walls = "reflect";
+  std::vector<std::string> impulses;
   std::string obstacles = "reflect";
   int every = 1;
   double scale_m = 0.001;
   int zoom = 0;
   double print_every_s = 0.5;
-  sim::WaterOptions water;
+  WaterArgs water;
+  double courant = -1;  // paper model only
+  int max_substeps = -1;
 };
 
-bool ParseStroke(const std::string& text, Stroke* s) {
-  std::vector<double> v;
+// Comma-separated finite numbers; false on anything else.
+bool ParseNumbers(const std::string& text, std::vector<double>* out) {
+  std::vector<double>& v = *out;
+  v.clear();
   std::stringstream in(text);
   std::string item;
   while (std::getline(in, item, ',')) {
@@ -58,11 +71,67 @@ bool ParseStroke(const std::string& text, Stroke* s) {
       return false;
     }
   }
-  if (v.size() != 6) return false;
   for (double x : v)
     if (!std::isfinite(x)) return false;
+  return !v.empty();
+}
+
+bool ParseStroke(const std::string& text, Stroke* s) {
+  std::vector<double> v;
+  if (!ParseNumbers(text, &v) || v.size() != 6) return false;
   *s = {v[0], v[1], v[2], v[3], v[4], v[5]};
   return s->t1 >= s->t0 && s->t0 >= 0;
+}
+
+bool ParseImpulse(const std::string& text, Impulse* s) {
+  std::vector<double> v;
+  if (!ParseNumbers(text, &v) || v.size() != 5) return false;
+  *s = {v[0], v[1], v[2], v[3], v[4]};
+  return s->t >= 0 && s->radius > 0 && std::abs(s->amp) <= 1;
+}
+
+// NumPy's .npy format, version 1.0: float32 little-endian, C order,
+// shape (ny, nx). False if the file cannot be written whole.
+bool WriteNpy(const std::string& path, const float* data, int ny, int nx) {
+  char dict[128];
+  std::snprintf(dict, sizeof(dict),
+                "{'descr': '<f4', 'fortran_order': False, 'shape': (%d, %d), }",
+                ny, nx);
+  std::string header(dict);
+  // Magic (6) + version (2) + length (2) + header, padded to 64 with '\n'.
+  const std::size_t total = ((10 + header.size() + 1 + 63) / 64) * 64;
+  header.append(total - 10 - header.size() - 1, ' ');
+  header.push_back('\n');
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!f) return false;
+  const unsigned char magic[8] = {0x93, 'N', 'U', 'M', 'P', 'Y', 1, 0};
+  const std::uint16_t len = static_cast<std::uint16_t>(header.size());
+  const unsigned char len_le[2] = {static_cast<unsigned char>(len & 0xff),
+                                   static_cast<unsigned char>(len >> 8)};
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  bool ok = std::fwrite(magic, 1, 8, f) == 8 &&
+            std::fwrite(len_le, 1, 2, f) == 2 &&
+            std::fwrite(header.data(), 1, header.size(), f) == header.size() &&
+            std::fwrite(data, sizeof(float), n, f) == n;
+  ok = std::fclose(f) == 0 && ok;
+  return ok;
+}
+
+// Surface slope |grad h| over the water cells: RMS and 99th percentile.
+void SlopeStats(const sim::HeightFieldView& view, std::vector<float>* gx,
+                std::vector<float>* gy, double* rms, double* p99) {
+  sim::ComputeGradients(view, gx, gy);
+  std::vector<double> m;
+  m.reserve(gx->size());
+  double sum = 0;
+  for (std::size_t c = 0; c < gx->size(); ++c) {
+    if (!view.water[c]) continue;
+    const double s = std::hypot((*gx)[c], (*gy)[c]);
+    m.push_back(s);
+    sum += s * s;
+  }
+  *rms = m.empty() ? 0 : std::sqrt(sum / m.size());
+  *p99 = m.empty() ? 0 : bench::Percentile(m, 99);
 }
 
 bool IsVideoPath(const std::string& path) {
@@ -116,30 +185,71 @@ int RunSim(SimArgs args) {
                       "frame, seconds, 0 <= t0 <= t1)");
     strokes.push_back(s);
   }
-  if (args.strokes.empty()) {
+  std::vector<Impulse> impulses;
+  for (const std::string& text : args.impulses) {
+    Impulse s;
+    if (!ParseImpulse(text, &s))
+      return Fail(kExitBadInput,
+                  "--impulse '" + text +
+                      "': expected X,Y,T,AMP,RADIUS (metres in the tank "
+                      "frame, seconds >= 0, |AMP| <= 1 m, RADIUS > 0)");
+    impulses.push_back(s);
+  }
+  if (args.strokes.empty() && impulses.empty()) {
     // A default stir: across the tank and back, clear of the default pillar.
     strokes.push_back({-0.06, -0.025, 0.02, -0.025, 0.2, 0.8});
     strokes.push_back({0.0, 0.035, -0.05, 0.0, 1.2, 1.5});
   }
-  args.water.walls =
-      args.walls == "absorb" ? sim::WallMode::kAbsorb : sim::WallMode::kReflect;
-  args.water.obstacles = args.obstacles == "zero" ? sim::ObstacleMode::kZero
-                                                  : sim::ObstacleMode::kReflect;
   std::string error;
-  if (!args.water.IsValid(&error)) return Fail(kExitBadInput, error);
-  const sim::GridSpec grid =
-      sim::GridSpec::ForTank(rig->tank.size_x_m, rig->tank.size_y_m,
-                             rig->tank.water_level_m, args.resolution);
-  if (!grid.IsValid(&error))
-    return Fail(kExitBadInput, "--resolution: " + error);
+  sim::WaterModelOptions model;
+  int cells = 0;
+  if (!ResolveWaterOptions(args.water, &model, &cells, &error))
+    return Fail(kExitBadInput, error);
+  const bool paper = model.waves == sim::WaveModel::kPaper;
+  if (!paper && (args.courant != -1 || args.max_substeps != -1 ||
+                 args.obstacles == "zero"))
+    return Fail(kExitBadInput,
+                "--courant, --max-substeps and --obstacles zero are the "
+                "paper model's (--waves paper)");
+  if (args.courant != -1) model.paper.courant = args.courant;
+  if (args.max_substeps != -1) model.paper.max_substeps = args.max_substeps;
+  model.paper.obstacles = args.obstacles == "zero"
+                              ? sim::ObstacleMode::kZero
+                              : sim::ObstacleMode::kReflect;
+  sim::GridSpec grid;
+  if (!WaterForRig(*rig, cells, args.water.radius_m != -1, &model, &grid,
+                   &error))
+    return Fail(kExitBadInput, args.rig + ": " + error);
   std::vector<sim::Obstacle> obstacles;
   if (args.obstacles != "off" && !SimObstaclesFromRig(*rig, &obstacles, &error))
     return Fail(kExitBadInput, args.rig + ": " + error);
 
-  const bool video_out = !args.out.empty() && IsVideoPath(args.out);
-  const bool png_out = !args.out.empty() && !video_out;
-  if (png_out && !MakeDirectories(args.out, &error))
+  std::string format = args.format;
+  if (format.empty() && !args.out.empty())
+    format = IsVideoPath(args.out) ? "video" : "png";
+  if (!format.empty() && args.out.empty())
+    return Fail(kExitBadInput, "--format needs --out");
+  if (format != "" && format != "npy" && format != "png" && format != "video")
+    return Fail(kExitBadInput,
+                "--format '" + format + "': use npy, png or video");
+  if (format == "video" && !IsVideoPath(args.out))
+    return Fail(kExitBadInput, "--format video: --out '" + args.out +
+                                   "' must end in .mp4, .mkv or .avi");
+  if ((format == "npy" || format == "png") && IsVideoPath(args.out))
+    return Fail(kExitBadInput, "--format " + format + ": --out '" + args.out +
+                                   "' must be a folder");
+  const bool video_out = format == "video";
+  const bool png_out = format == "png";
+  const bool npy_out = format == "npy";
+  if ((png_out || npy_out) && !MakeDirectories(args.out, &error))
     return Fail(kExitBadInput, error);
+  std::FILE* frames_csv = nullptr;
+  if (npy_out) {
+    const std::string path = args.out + "/frames.csv";
+    frames_csv = std::fopen(path.c_str(), "w");
+    if (!frames_csv) return Fail(kExitBadInput, "cannot write '" + path + "'");
+    std::fprintf(frames_csv, "frame,time_s,tip_x_m,tip_y_m,tip_z_m\n");
+  }
   const int zoom =
       args.zoom > 0 ? args.zoom : std::max(1, (640 + grid.nx - 1) / grid.nx);
   VideoOut video;
@@ -148,24 +258,34 @@ int RunSim(SimArgs args) {
                   cv::Size(grid.nx * zoom, grid.ny * zoom), &error))
     return Fail(kExitBadInput, error);
 
-  sim::Water water(grid, args.water);
+  auto water_ptr = sim::CreateWater(grid, model, &error);
+  if (!water_ptr) return Fail(kExitBadInput, "water: " + error);
+  sim::WaterSurface& water = *water_ptr;
   for (const sim::Obstacle& o : obstacles) {
     if (water.AddObstacle(o, &error) < 0)
       return Fail(kExitBadInput, args.rig + ": obstacle: " + error);
   }
-  std::printf(
-      "sim: grid %dx%d, cell %.3f mm, sub-step %.3f ms (c %.3g m/s, courant "
-      "%.2g), viscosity %.3g 1/s (amplitude e-folding %.3g s), walls %s, "
-      "obstacles %s (%zu, %d cells blocked), %zu stroke(s), %.3g s at %.3g "
-      "fps\n",
-      grid.nx, grid.ny, 1e3 * grid.cell_m, 1e3 * water.substep_s(),
-      args.water.wave_speed_m_per_s, args.water.courant,
-      args.water.viscosity_per_s,
-      args.water.viscosity_per_s > 0 ? 2 / args.water.viscosity_per_s
-                                     : INFINITY,
-      args.walls.c_str(), args.obstacles.c_str(), obstacles.size(),
-      grid.nx * grid.ny - water.num_water_cells(), strokes.size(),
-      args.duration_s, args.fps);
+  if (paper) {
+    std::printf(
+        "sim: paper waves, grid %dx%d, cell %.3f mm (c %.3g m/s, courant "
+        "%.2g), damping %.3g 1/s, walls %s, obstacles %s (%zu)",
+        grid.nx, grid.ny, 1e3 * grid.cell_m, model.paper.wave_speed_m_per_s,
+        model.paper.courant, model.paper.viscosity_per_s,
+        args.water.walls.c_str(), args.obstacles.c_str(), obstacles.size());
+  } else {
+    const sim::SpectralWaterOptions& c = model.spectral;
+    std::printf(
+        "sim: capillary-gravity waves, grid %dx%d, cell %.3f mm, depth %.1f "
+        "mm, nu %.2g m^2/s, sub-step %.3f ms, shortest wave %.1f mm, pen %s "
+        "(shaft r %.1f mm, push r %.1f mm), walls %s, obstacles %s (%zu)",
+        grid.nx, grid.ny, 1e3 * grid.cell_m, 1e3 * grid.rest_level_m,
+        c.physics.kinematic_viscosity_m2_per_s, 1e3 * c.substep_s,
+        1e3 * c.shortest_wavelength_m, sim::PenModelName(c.pen),
+        1e3 * c.pen_shaft_radius_m, 1e3 * c.pen_radius_m,
+        args.water.walls.c_str(), args.obstacles.c_str(), obstacles.size());
+  }
+  std::printf(", %zu stroke(s), %zu impulse(s), %.3g s at %.3g fps\n",
+              strokes.size(), impulses.size(), args.duration_s, args.fps);
 
   const double level = grid.rest_level_m;
   auto tip_at = [&](double t, std::array<double, 3>* tip) {
@@ -188,9 +308,12 @@ int RunSim(SimArgs args) {
   double dropped = 0, max_h = 0;
   int print_stride =
       std::max(1, static_cast<int>(std::lround(args.print_every_s * args.fps)));
-  std::printf("%8s %8s %6s %12s %12s %10s %10s %s\n", "time_s", "advance_ms",
-              "steps", "volume_m3", "energy", "max|h|_m", "max|v|_m/s",
-              "flags");
+  std::printf("%8s %8s %6s %12s %12s %10s %10s %8s %8s %s\n", "time_s",
+              "advance_ms", "steps", "volume_m3", "energy", "max|h|_m",
+              "max|v|_m/s", "slope", "slope99", "flags");
+  std::vector<bool> impulse_done(impulses.size(), false);
+  std::vector<float> drop, gx, gy;
+  std::vector<double> active_p99, active_rms;
   for (int f = 0; f <= frames; ++f) {
     const double t = f * dt;
     std::array<double, 3> tip;
@@ -199,6 +322,22 @@ int RunSim(SimArgs args) {
       water.SetPenTip(tip);
     } else {
       water.ClearPen();
+    }
+    for (std::size_t k = 0; k < impulses.size(); ++k) {
+      const Impulse& im = impulses[k];
+      if (impulse_done[k] || t + 1e-9 < im.t) continue;
+      impulse_done[k] = true;
+      drop.assign(static_cast<std::size_t>(grid.nx) * grid.ny, 0.0f);
+      const sim::HeightFieldView v = water.View();
+      for (int j = 0; j < grid.ny; ++j)
+        for (int i = 0; i < grid.nx; ++i) {
+          const double dx = v.CellCentreX(i) - im.x,
+                       dy = v.CellCentreY(j) - im.y;
+          drop[static_cast<std::size_t>(j) * grid.nx + i] = static_cast<float>(
+              im.amp *
+              std::exp(-(dx * dx + dy * dy) / (2 * im.radius * im.radius)));
+        }
+      water.AddHeights(drop);
     }
     const bench::Stopwatch watch;
     water.Advance(f == 0 ? 0.0 : dt);
@@ -209,11 +348,37 @@ int RunSim(SimArgs args) {
     dropped += s.dropped_s;
     rest_frames += s.at_rest;
     max_h = std::max(max_h, s.max_abs_height_m);
-    if (f % print_stride == 0 || f == frames) {
-      std::printf("%8.3f %8.3f %6d %12.4e %12.4e %10.3e %10.3e%s%s%s\n", t, ms,
-                  s.substeps, s.volume_m3, s.energy, s.max_abs_height_m,
-                  s.max_speed_m_per_s, s.pen_touched ? " pen" : "",
-                  s.at_rest ? " rest" : "", s.dropped_s > 0 ? " dropped" : "");
+    const bool print = f % print_stride == 0 || f == frames;
+    double rms = 0, p99 = 0;
+    if (print || s.pen_touched) {
+      SlopeStats(water.View(), &gx, &gy, &rms, &p99);
+      if (s.pen_touched) {
+        active_rms.push_back(rms);
+        active_p99.push_back(p99);
+      }
+    }
+    if (print) {
+      std::printf(
+          "%8.3f %8.3f %6d %12.4e %12.4e %10.3e %10.3e %8.4f %8.4f%s%s%s\n", t,
+          ms, s.substeps, s.volume_m3, s.energy, s.max_abs_height_m,
+          s.max_speed_m_per_s, rms, p99, s.pen_touched ? " pen" : "",
+          s.at_rest ? " rest" : "", s.dropped_s > 0 ? " dropped" : "");
+    }
+    if (npy_out && f % args.every == 0) {
+      char name[64];
+      std::snprintf(name, sizeof(name), "/frame_%06d.npy", f);
+      const sim::HeightFieldView v = water.View();
+      if (!WriteNpy(args.out + name, v.heights, v.ny, v.nx)) {
+        std::fclose(frames_csv);
+        return Fail(kExitRuntime, "cannot write '" + args.out + name + "'");
+      }
+      if (pen)
+        std::fprintf(frames_csv, "%d,%.6f,%.6f,%.6f,%.6f\n", f, t, tip[0],
+                     tip[1], tip[2]);
+      else
+        std::fprintf(frames_csv, "%d,%.6f,,,\n", f, t);
+      ++written;
+      continue;
     }
     if (!args.out.empty() && f % args.every == 0) {
       const cv::Mat img = HeightImage(water.View(), args.scale_m, zoom,
@@ -230,6 +395,15 @@ int RunSim(SimArgs args) {
     }
   }
   video.Close();
+  if (frames_csv && std::fclose(frames_csv) != 0)
+    return Fail(kExitRuntime, "cannot write '" + args.out + "/frames.csv'");
+  if (!active_p99.empty())
+    std::printf(
+        "sim: surface slope while the pen acts (%zu frames): RMS median "
+        "%.4f, 99th percentile median %.4f, max %.4f\n",
+        active_p99.size(), bench::Percentile(active_rms, 50),
+        bench::Percentile(active_p99, 50),
+        *std::max_element(active_p99.begin(), active_p99.end()));
   const double total_ms = [&] {
     double sum = 0;
     for (double v : advance_ms) sum += v;
@@ -257,12 +431,11 @@ CommandAction SetupSim(CLI::App* sub) {
   sub->add_option("--rig", args->rig, "Rig YAML (tank size, level, obstacles)")
       ->capture_default_str();
   sub->add_option("--out", args->out,
-                  "Height frames: a folder for PNGs, or a video file "
+                  "Height frames: a folder (npy or PNG), or a video file "
                   "(.mp4, .mkv, .avi)");
-  sub->add_option("--resolution", args->resolution,
-                  "Cells along the tank's long side (x); y follows")
-      ->capture_default_str()
-      ->check(CLI::Range(2, 16384));
+  sub->add_option("--format", args->format,
+                  "npy (float32 heights in metres, ny x nx, + frames.csv), "
+                  "png or video; default from --out");
   sub->add_option("--duration", args->duration_s, "Simulated time, seconds")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1e5));
@@ -276,29 +449,20 @@ CommandAction SetupSim(CLI::App* sub) {
   sub->add_option("--depth", args->depth_m,
                   "Tip depth below the rest level during strokes, metres")
       ->capture_default_str();
-  sub->add_option("--wave-speed", args->water.wave_speed_m_per_s,
-                  "Wave speed c, m/s")
-      ->capture_default_str();
-  sub->add_option("--viscosity", args->water.viscosity_per_s,
-                  "Velocity damping, 1/s (amplitude decays as exp(-v t/2))")
-      ->capture_default_str();
-  sub->add_option("--courant", args->water.courant, "Sub-step c*dt/d, (0, 0.5]")
-      ->capture_default_str();
-  sub->add_option("--max-substeps", args->water.max_substeps,
-                  "Sub-steps per frame before time is dropped")
-      ->capture_default_str();
-  sub->add_option("--strength", args->water.pen_strength_m_per_s2,
-                  "Pen force s, m/s^2")
-      ->capture_default_str();
-  sub->add_option("--radius", args->water.pen_radius_m,
-                  "Pen radius r, metres (small r: high frequency)")
-      ->capture_default_str();
-  sub->add_option("--walls", args->walls, "Tank walls: reflect or absorb")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"reflect", "absorb"}));
+  sub->add_option("--impulse", args->impulses,
+                  "Drop X,Y,T,AMP,RADIUS: a Gaussian displacement AMP "
+                  "(metres, std RADIUS) released from rest at time T; "
+                  "repeatable. With impulses and no --stroke the pen stays "
+                  "out")
+      ->allow_extra_args(false);
+  AddWaterOptions(sub, &args->water);
+  sub->add_option("--courant", args->courant,
+                  "Sub-step c*dt/d, (0, 0.5] (paper model)");
+  sub->add_option("--max-substeps", args->max_substeps,
+                  "Sub-steps per frame before time is dropped (paper model)");
   sub->add_option("--obstacles", args->obstacles,
-                  "Rig obstacles: reflect (volume-conserving), zero (the "
-                  "paper's h=v=0) or off")
+                  "Rig obstacles: reflect, zero (the paper model's h=v=0) or "
+                  "off")
       ->capture_default_str()
       ->check(CLI::IsMember({"reflect", "zero", "off"}));
   sub->add_option("--every", args->every, "Write every N-th frame")

@@ -36,7 +36,10 @@ bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
   co.map_nx = co.map_ny = options_.map_size;
   co.threads = options_.threads;
   co.attenuation_per_m = options_.attenuation_per_m;
-  ComputeCaustics(co, scene.water, scene.tank, key.light, &map_, nullptr,
+  const HeightFieldView& surface = scene.caustics_water.heights != nullptr
+                                       ? scene.caustics_water
+                                       : scene.water;
+  ComputeCaustics(co, surface, scene.tank, key.light, &map_, nullptr,
                   &workspace_);
   glBindTexture(GL_TEXTURE_2D, texture_.id());
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);

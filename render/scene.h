@@ -74,6 +74,10 @@ struct SceneInputs {
   glm::dmat4 cam_from_tank{1.0};
   TankGeometry tank;
   HeightFieldView water;  // null heights: flat water at the rest level
+  // The same surface on a coarser grid for the caustics map, whose cost
+  // grows with the cell count (null heights: `water` itself). Its change
+  // counter must move with water's.
+  HeightFieldView caustics_water;
   bool pen_visible = false;
   glm::dmat4 tank_from_pen{1.0};
   PenGeometry pen;

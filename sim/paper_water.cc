@@ -25,6 +25,20 @@ bool PaperWater::SetOptions(const WaterModelOptions& options,
   return true;
 }
 
+bool PaperWater::AddHeights(const std::vector<float>& dh_m) {
+  const int nx = water_.grid().nx, ny = water_.grid().ny;
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  if (dh_m.size() != n) return false;
+  std::vector<float> h(water_.heights(), water_.heights() + n), v(n);
+  for (int j = 0; j < ny; ++j)
+    for (int i = 0; i < nx; ++i) {
+      const std::size_t c = static_cast<std::size_t>(j) * nx + i;
+      h[c] += dh_m[c];
+      v[c] = static_cast<float>(water_.VelocityAt(i, j));
+    }
+  return water_.SetState(h, &v);
+}
+
 bool PaperWater::RemoveObstacle(int id) {
   if (!water_.RemoveObstacle(id)) return false;
   ++removed_;

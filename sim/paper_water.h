@@ -47,6 +47,7 @@ class PaperWater final : public WaterSurface {
                 const std::vector<float>* velocities_m_per_s) override {
     return water_.SetState(heights_m, velocities_m_per_s);
   }
+  bool AddHeights(const std::vector<float>& dh_m) override;
   HeightFieldView View() const override { return water_.View(); }
   double HeightAtPoint(double x_m, double y_m) const override {
     return water_.HeightAtPoint(x_m, y_m);

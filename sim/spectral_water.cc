@@ -144,6 +144,7 @@ SpectralWater::SpectralWater(const GridSpec& grid,
   cover_count_.assign(n_, 0);
   num_water_ = static_cast<int>(n_);
   BuildPropagator();
+  ChooseCoarseGrid();
   RebuildMask();
   stats_.at_rest = true;
   stats_.substep_s = options_.spectral.substep_s;
@@ -218,6 +219,7 @@ bool SpectralWater::SetOptions(const WaterModelOptions& options,
   if (!options.IsValid(error)) return false;
   options_ = options;
   BuildPropagator();
+  ChooseCoarseGrid();
   stats_.substep_s = options_.spectral.substep_s;
   wake_pending_ = true;
   return true;
@@ -692,6 +694,79 @@ bool SpectralWater::SetState(const std::vector<float>& heights_m,
   at_rest_ = false;
   wake_pending_ = true;
   return true;
+}
+
+bool SpectralWater::AddHeights(const std::vector<float>& dh_m) {
+  if (dh_m.size() != n_) return false;
+  for (float v : dh_m)
+    if (!std::isfinite(v)) return false;
+  double vol = 0;
+  for (std::size_t c = 0; c < n_; ++c) {
+    scratch_[c] = water_[c] ? dh_m[c] : 0.0f;
+    vol += scratch_[c];
+  }
+  transform_.Analyze(scratch_.data(), v_.data());
+  for (std::size_t c = 0; c < n_; ++c) X_[c] += v_[c];
+  ClearOutOfBand();
+  water_volume_m3_ += vol * grid_.cell_m * grid_.cell_m;
+  Synthesize();
+  ++counter_;
+  at_rest_ = false;
+  wake_pending_ = true;
+  return true;
+}
+
+void SpectralWater::ChooseCoarseGrid() {
+  coarse_transform_.reset();
+  coarse_counter_ = ~std::uint64_t{0};
+  auto smooth = [](int n) {
+    for (int p : {2, 3, 5, 7})
+      while (n > 1 && n % p == 0) n /= p;
+    return n == 1;
+  };
+  // Grids with the tank's exact aspect: multiples of (nx, ny) / gcd.
+  int a = grid_.nx, b = grid_.ny;
+  while (b != 0) std::swap(a %= b, b);
+  const int ux = grid_.nx / a, uy = grid_.ny / a;
+  for (int m = 1; m * ux < grid_.nx; ++m) {
+    const int cx = m * ux, cy = m * uy;
+    if (cx < band_nx_ || cy < band_ny_ || !smooth(cx) || !smooth(cy)) continue;
+    if (static_cast<double>(cx) * cy > 0.7 * n_) break;  // not worth it
+    coarse_transform_ = std::make_unique<CosineTransform2D>(cx, cy);
+    coarse_cell_m_ = grid_.nx * grid_.cell_m / cx;
+    const std::size_t n = static_cast<std::size_t>(cx) * cy;
+    coarse_h_ = AlignedFloats(n);
+    coarse_x_ = AlignedFloats(n);
+    coarse_scratch_ = AlignedFloats(n);
+    coarse_water_.assign(n, 1);
+    return;
+  }
+}
+
+HeightFieldView SpectralWater::CoarseView() const {
+  if (!coarse_transform_) return View();
+  const int cx = coarse_transform_->nx(), cy = coarse_transform_->ny();
+  if (coarse_counter_ != counter_) {
+    // The band's coefficients evaluated at the coarse cell centres: the
+    // cosine basis of the coarse grid is the fine one sampled there.
+    coarse_x_.Fill(0.0f);
+    for (int b = 0; b < band_ny_; ++b)
+      std::copy(X_.data() + static_cast<std::size_t>(b) * grid_.nx,
+                X_.data() + static_cast<std::size_t>(b) * grid_.nx + band_nx_,
+                coarse_x_.data() + static_cast<std::size_t>(b) * cx);
+    coarse_transform_->Synthesize(coarse_x_.data(), coarse_h_.data(),
+                                  coarse_scratch_.data());
+    coarse_counter_ = counter_;
+  }
+  HeightFieldView v;
+  v.heights = coarse_h_.data();
+  v.water = coarse_water_.data();
+  v.nx = cx;
+  v.ny = cy;
+  v.cell_m = coarse_cell_m_;
+  v.rest_level_m = grid_.rest_level_m;
+  v.counter = counter_;
+  return v;
 }
 
 HeightFieldView SpectralWater::View() const {

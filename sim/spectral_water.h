@@ -78,7 +78,9 @@ class SpectralWater final : public WaterSurface {
   void Reset() override;
   bool SetState(const std::vector<float>& heights_m,
                 const std::vector<float>* velocities_m_per_s) override;
+  bool AddHeights(const std::vector<float>& dh_m) override;
   HeightFieldView View() const override;
+  HeightFieldView CoarseView() const override;
   double HeightAtPoint(double x_m, double y_m) const override;
   std::uint64_t counter() const override { return counter_; }
 
@@ -136,6 +138,14 @@ class SpectralWater final : public WaterSurface {
   GridSpec grid_;
   WaterModelOptions options_;
   CosineTransform2D transform_;
+  // The coarse grid of CoarseView() (nullptr: the grid itself) and its
+  // lazily synthesised heights, valid for coarse_counter_.
+  std::unique_ptr<CosineTransform2D> coarse_transform_;
+  double coarse_cell_m_ = 0;
+  mutable AlignedFloats coarse_h_, coarse_x_, coarse_scratch_;
+  mutable std::uint64_t coarse_counter_ = ~std::uint64_t{0};
+  std::vector<std::uint8_t> coarse_water_;
+  void ChooseCoarseGrid();
   std::size_t n_ = 0;
   int band_nx_ = 1,
       band_ny_ = 1;      // modes simulated: a < band_nx_, b < band_ny_

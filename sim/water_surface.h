@@ -68,7 +68,17 @@ class WaterSurface {
   virtual bool SetState(const std::vector<float>& heights_m,
                         const std::vector<float>* velocities_m_per_s) = 0;
 
+  // Adds a displacement (metres, nx*ny) to the surface, keeping its
+  // velocities: a drop released from rest. False on a size mismatch or a
+  // non-finite value. Wakes the water.
+  virtual bool AddHeights(const std::vector<float>& dh_m) = 0;
+
   virtual HeightFieldView View() const = 0;
+  // The same surface on the coarsest square grid over the tank that still
+  // holds every simulated wavelength (exact samples of the band-limited
+  // surface), for consumers whose cost grows with the cell count (the
+  // caustics). Models without a band limit return View().
+  virtual HeightFieldView CoarseView() const { return View(); }
   // Bilinear surface displacement at a tank-frame point (clamped), metres.
   virtual double HeightAtPoint(double x_m, double y_m) const = 0;
   virtual std::uint64_t counter() const = 0;

@@ -353,6 +353,45 @@ TEST(SpectralWaterTest, BandLimitKeepsLongWavesExact) {
   for (float v : cut) ASSERT_NEAR(v, 0.0f, 1e-9);
 }
 
+TEST(SpectralWaterTest, CoarseViewSamplesTheSameSurface) {
+  // The default tank grid with its 3 mm band: the coarse view's cells are
+  // exact samples of the fine surface's band-limited function.
+  const GridSpec g =
+      DefaultGrid(WaveModel::kCapillaryGravity, 0.17, 0.11, 0.025, 256);
+  WaterModelOptions o;
+  auto water = Make(g, o);
+  for (int f = 0; f < 20; ++f) {
+    water->SetPenTip(
+        {0.03 * std::cos(f * 0.3), 0.02 * std::sin(f * 0.3), 0.015});
+    water->Advance(1.0 / 30);
+  }
+  const HeightFieldView fine = water->View(), coarse = water->CoarseView();
+  ASSERT_LT(coarse.nx, fine.nx);
+  EXPECT_NEAR(coarse.nx * coarse.cell_m, fine.nx * fine.cell_m, 1e-12);
+  EXPECT_NEAR(coarse.ny * coarse.cell_m, fine.ny * fine.cell_m, 1e-9);
+  EXPECT_EQ(coarse.counter, fine.counter);
+  // Compare at coarse cell centres, evaluating the fine surface there from
+  // its own modes (a direct sum over the band).
+  const int bx = water->band_nx(), by = water->band_ny();
+  double worst = 0, peak = 0;
+  for (int j = 3; j < coarse.ny; j += 17) {
+    for (int i = 5; i < coarse.nx; i += 23) {
+      const double fx = (i + 0.5) * coarse.cell_m / fine.cell_m - 0.5;
+      const double fy = (j + 0.5) * coarse.cell_m / fine.cell_m - 0.5;
+      double h = 0;
+      for (int b = 0; b < by; ++b)
+        for (int a = 0; a < bx; ++a)
+          h += water->ModeAmplitude(a, b) *
+               std::cos(kPi * a * (fx + 0.5) / fine.nx) *
+               std::cos(kPi * b * (fy + 0.5) / fine.ny);
+      worst = std::max(worst, std::abs(h - coarse.heights[j * coarse.nx + i]));
+      peak = std::max(peak, std::abs(h));
+    }
+  }
+  ASSERT_GT(peak, 1e-6);
+  EXPECT_LT(worst, 1e-3 * peak + 1e-9);
+}
+
 TEST(SpectralWaterTest, ThinObstaclesStayBounded) {
   // The same stroke with and without a thin wall in its way: the wall may
   // reflect but must not feed energy into the water.

@@ -20,7 +20,9 @@ bool PngSink::Consume(const LoopFrame& frame, LoopStop* stop) {
   if (frame.index != options_.frame) return true;
   if (cv::imwrite(options_.path, frame.pipeline->composite())) return true;
   stop->exit_code = options_.exit_code;
-  stop->message = "cannot write " + options_.what + "'" + options_.path + "'";
+  stop->message = "cannot write " +
+                  (options_.label.empty() ? "" : options_.label + " ") + "'" +
+                  options_.path + "'";
   return false;
 }
 

@@ -40,13 +40,13 @@ class VideoSink : public FrameSink {
 };
 
 // Writes the composite of one frame as PNG. A failed write stops the loop
-// with `exit_code` and "cannot write <what>'<path>'".
+// with `exit_code` and "cannot write [<label> ]'<path>'".
 class PngSink : public FrameSink {
  public:
   struct Options {
     std::string path;
     int frame = 0;      // index of the frame to write
-    std::string what;   // "snapshot " or empty: names the file in errors
+    std::string label;  // names the file in the error ("snapshot"), or empty
     int exit_code = 1;  // on a failed write
   };
   explicit PngSink(Options options) : options_(std::move(options)) {}

@@ -84,7 +84,7 @@ int RunReplay(ReplayArgs& args) {
   std::unique_ptr<PngSink> snapshot;
   if (!args.snapshot.empty()) {
     snapshot = std::make_unique<PngSink>(PngSink::Options{
-        args.snapshot, args.snapshot_frame, "snapshot ", kExitBadInput});
+        args.snapshot, args.snapshot_frame, "snapshot", kExitBadInput});
     sinks.push_back(snapshot.get());
   }
   sinks.push_back(&stats);

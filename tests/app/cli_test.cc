@@ -42,6 +42,19 @@ TEST(CliTest, HelpAndUsageErrors) {
   EXPECT_EQ(RunRipple("synth --out x --preset nope").exit_code, 2);
 }
 
+TEST(CliTest, MalformedSizesAndPatternsAreUsageErrors) {
+  for (const char* command :
+       {"synth --out x --size 64by48", "live --size 0x480",
+        "bench tracking --sizes 640x480,1280",
+        "markers --out x --chessboard 1x6",
+        "calib camera --input x --out x.yml --chessboard 9x"}) {
+    const auto r = RunRipple(command);
+    EXPECT_EQ(r.exit_code, 2) << command;
+    EXPECT_THAT(r.output, ::testing::ContainsRegex("--(size|sizes|chessboard)"))
+        << command;
+  }
+}
+
 TEST(CliTest, BadFilesGiveOneLineAndExitCode2) {
   const std::string dir = Temp("bad");
   std::filesystem::create_directories(dir);

@@ -51,7 +51,7 @@ struct SpectralWaterOptions {
   // Obstacles and the sponge are imposed in the cell domain every this many
   // seconds (rounded to whole sub-steps): inside an obstacle the surface is
   // held at the mean level and still, so waves reflect from its edge.
-  double boundary_step_s = 1.0 / 60.0;
+  double boundary_step_s = 1.0 / 30.0;
   PenModel pen = PenModel::kDisplace;
   // Shaft radius, metres: the submerged volume is pi * r^2 * depth.
   double pen_shaft_radius_m = 0.005;

@@ -79,7 +79,7 @@ std::string SettingName(const tracking::TrackerOptions& o) {
               o.face_selection == tracking::FaceSelection::kMostFrontal
           ? "(frontal)"
           : "",
-      o.pose.refine ? " ceres" : " ippe", o.roi_search ? "roi" : "full",
+      o.pose.refine ? " ceres" : " ippe", o.roi.enabled ? "roi" : "full",
       o.pen_dense.enabled ? " dense" : "");
   return buf;
 }
@@ -98,7 +98,7 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
             o.detector.quad_decimate = d;
             o.pose.refine = refine;
             o.pen_mode = mode;
-            o.roi_search = roi;
+            o.roi.enabled = roi;
             list.push_back(o);
           }
   } else if (sweep == "default") {
@@ -118,7 +118,7 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
     o.pen_mode = tracking::PenMode::kBestFace;
     list.push_back(o);
     o = defaults;
-    o.roi_search = !defaults.roi_search;
+    o.roi.enabled = !defaults.roi.enabled;
     list.push_back(o);
     o = defaults;
     o.pen_dense.enabled = !defaults.pen_dense.enabled;
@@ -139,7 +139,7 @@ std::vector<std::unique_ptr<Setting>> MakeSettings(const std::string& sweep,
     if (o.detector.quad_decimate == defaults.detector.quad_decimate &&
         o.pen_mode == defaults.pen_mode &&
         o.pose.refine == defaults.pose.refine &&
-        o.roi_search == defaults.roi_search &&
+        o.roi.enabled == defaults.roi.enabled &&
         o.pen_dense.enabled == defaults.pen_dense.enabled &&
         o.face_selection == defaults.face_selection)
       s->name += " [default]";
@@ -404,7 +404,7 @@ int RunBenchTracking(const BenchArgs& args) {
           o.ms += ms;
         } else {
           tracking::FrameResult r;
-          if (s->options.roi_search) {
+          if (s->options.roi.enabled) {
             r = s->tracker->Track(frame.image, spec.time_s);
           } else {
             const auto& [dets, ms] = shared[s->options.detector.quad_decimate];

@@ -116,7 +116,7 @@ int RunTrack(const TrackArgs& args) {
   options.face_selection = *tracking::ParseFaceSelection(args.face_selection);
   options.pose.refine = !args.no_refine;
   options.pen_dense.enabled = !args.no_dense;
-  options.roi_search = !args.no_roi;
+  options.roi.enabled = !args.no_roi;
   options.smoothing.enabled = args.smooth;
   options.tank_hold_s = args.tank_hold_s;
   options.pen_hold_s = args.pen_hold_s;

@@ -45,7 +45,7 @@ std::string SettingName(const tracking::TrackerOptions& o) {
               o.face_selection == tracking::FaceSelection::kMostFrontal
           ? "(frontal)"
           : "",
-      o.pose.refine ? " ceres" : " ippe", o.roi_search ? "roi" : "full",
+      o.pose.refine ? " ceres" : " ippe", o.roi.enabled ? "roi" : "full",
       o.pen_dense.enabled ? " dense" : "");
   return buf;
 }
@@ -55,7 +55,7 @@ bool IsDefault(const tracking::TrackerOptions& o) {
   return o.detector.quad_decimate == defaults.detector.quad_decimate &&
          o.pen_mode == defaults.pen_mode &&
          o.pose.refine == defaults.pose.refine &&
-         o.roi_search == defaults.roi_search &&
+         o.roi.enabled == defaults.roi.enabled &&
          o.pen_dense.enabled == defaults.pen_dense.enabled &&
          o.face_selection == defaults.face_selection;
 }
@@ -153,7 +153,7 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
             o.detector.quad_decimate = d;
             o.pose.refine = refine;
             o.pen_mode = mode;
-            o.roi_search = roi;
+            o.roi.enabled = roi;
             list.push_back(o);
           }
   } else if (sweep == Sweep::kDefault) {
@@ -173,7 +173,7 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     o.pen_mode = tracking::PenMode::kBestFace;
     list.push_back(o);
     o = defaults;
-    o.roi_search = !defaults.roi_search;
+    o.roi.enabled = !defaults.roi.enabled;
     list.push_back(o);
     o = defaults;
     o.pen_dense.enabled = !defaults.pen_dense.enabled;
@@ -269,7 +269,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
         o.ms += ms;
       } else {
         tracking::FrameResult r;
-        if (s->options.roi_search) {
+        if (s->options.roi.enabled) {
           r = s->tracker->Track(frame.image, spec.time_s);
         } else {
           const auto& [dets, ms] = shared[s->options.detector.quad_decimate];

@@ -2,30 +2,6 @@
 
 namespace ripple::render {
 
-bool Intrinsics::HasDistortion() const {
-  for (double d : dist) {
-    if (d != 0.0) return true;
-  }
-  return false;
-}
-
-bool Intrinsics::IsValid(std::string* error) const {
-  if (width <= 0 || height <= 0) {
-    if (error) *error = "intrinsics: image size must be positive";
-    return false;
-  }
-  if (!(fx > 0) || !(fy > 0)) {
-    if (error) *error = "intrinsics: focal lengths must be positive";
-    return false;
-  }
-  return true;
-}
-
-bool Intrinsics::operator==(const Intrinsics& o) const {
-  return width == o.width && height == o.height && fx == o.fx && fy == o.fy &&
-         cx == o.cx && cy == o.cy && dist == o.dist;
-}
-
 glm::dmat4 ClipFromCam(const Intrinsics& k, double n, double f) {
   const double w = k.width, h = k.height;
   // glm is column-major: m[column][row].
@@ -50,13 +26,8 @@ glm::dvec2 WindowFromClip(const glm::dvec4& clip, int width, int height) {
 }
 
 glm::dvec2 DistortedPixel(const Intrinsics& k, double x, double y) {
-  const auto& d = k.dist;
-  const double r2 = x * x + y * y, r4 = r2 * r2, r6 = r4 * r2;
-  const double radial = (1 + d[0] * r2 + d[1] * r4 + d[4] * r6) /
-                        (1 + d[5] * r2 + d[6] * r4 + d[7] * r6);
-  const double xd = x * radial + 2 * d[2] * x * y + d[3] * (r2 + 2 * x * x);
-  const double yd = y * radial + d[2] * (r2 + 2 * y * y) + 2 * d[3] * x * y;
-  return {k.fx * xd + k.cx, k.fy * yd + k.cy};
+  const Eigen::Vector2d uv = k.DistortNormalized(x, y);
+  return {uv.x(), uv.y()};
 }
 
 }  // namespace ripple::render

@@ -8,25 +8,15 @@
 #ifndef RIPPLE_RENDER_CAMERA_H_
 #define RIPPLE_RENDER_CAMERA_H_
 
-#include <array>
 #include <glm/glm.hpp>
-#include <string>
+
+#include "geometry/camera_model.h"
 
 namespace ripple::render {
 
-// Calibrated intrinsics of the output image (OpenCV calibration values).
-struct Intrinsics {
-  int width = 0;                          // pixels
-  int height = 0;                         // pixels
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
-  // OpenCV order: k1 k2 p1 p2 k3 k4 k5 k6 (rational model when k4..k6 != 0).
-  std::array<double, 8> dist{};
-
-  bool HasDistortion() const;
-  bool IsValid(std::string* error) const;
-  bool operator==(const Intrinsics& o) const;
-  bool operator!=(const Intrinsics& o) const { return !(*this == o); }
-};
+// Calibrated intrinsics of the output image (OpenCV calibration values):
+// the project's camera model, geometry/camera_model.h.
+using Intrinsics = geometry::CameraModel;
 
 // Near and far clip distances of the renderer (metres along the optical
 // axis): a tabletop scene lies well inside.
@@ -51,7 +41,8 @@ inline glm::dvec2 PixelFromWindow(const glm::dvec2& window) {
 }
 
 // OpenCV's distortion model: ideal normalised coordinates (x, y) = (X/Z,
-// Y/Z) -> distorted pixel. Same formula as cv::projectPoints.
+// Y/Z) -> distorted pixel. Same formula as cv::projectPoints
+// (CameraModel::DistortNormalized).
 glm::dvec2 DistortedPixel(const Intrinsics& k, double x, double y);
 
 }  // namespace ripple::render

@@ -1,10 +1,11 @@
 #include "sim/water.h"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+
+#include "geometry/check.h"
 
 namespace ripple::sim {
 namespace {
@@ -267,11 +268,8 @@ template <typename T>
 BasicWater<T>::BasicWater(const GridSpec& grid, const WaterOptions& options)
     : grid_(grid), options_(options) {
   std::string error;
-  if (!grid.IsValid(&error) || !options.IsValid(&error)) {
-    std::fprintf(stderr, "ripple::sim::BasicWater: %s\n", error.c_str());
-    assert(false);
-    std::abort();
-  }
+  RIPPLE_CHECK(grid.IsValid(&error) && options.IsValid(&error),
+               "ripple::sim::BasicWater: " + error);
   const size_t n = static_cast<size_t>(grid_.nx) * grid_.ny;
   h_.assign(n, T(0));
   u_.assign(n, T(0));

@@ -106,7 +106,7 @@ struct AdvanceStats {
 template <typename T>
 class BasicWater {
  public:
-  // CHECKs (asserts) that grid and options are valid: validate user input
+  // RIPPLE_CHECKs that grid and options are valid: validate user input
   // with IsValid first.
   BasicWater(const GridSpec& grid, const WaterOptions& options);
 

@@ -10,25 +10,6 @@ const char kPoseCsvHeader[] =
     "frame,time_s,object,status,tx,ty,tz,qw,qx,qy,qz,tip_x,tip_y,tip_z,faces,"
     "reproj_rmse_px,ms";
 
-const char* ToString(TrackStatus s) {
-  switch (s) {
-    case TrackStatus::kTracked:
-      return "tracked";
-    case TrackStatus::kHeld:
-      return "held";
-    case TrackStatus::kLost:
-      return "lost";
-  }
-  return "lost";
-}
-
-std::optional<TrackStatus> ParseTrackStatus(const std::string& s) {
-  if (s == "tracked") return TrackStatus::kTracked;
-  if (s == "held") return TrackStatus::kHeld;
-  if (s == "lost") return TrackStatus::kLost;
-  return std::nullopt;
-}
-
 std::string FormatPoseRow(const PoseRow& row) {
   char buf[512];
   std::string out;

@@ -15,12 +15,9 @@
 #include <vector>
 
 #include "tracking/pose.h"
+#include "tracking/track_status.h"
 
 namespace ripple::tracking {
-
-enum class TrackStatus { kTracked, kHeld, kLost };
-const char* ToString(TrackStatus s);
-std::optional<TrackStatus> ParseTrackStatus(const std::string& s);
 
 struct PoseRow {
   int frame = 0;

@@ -177,6 +177,13 @@ void WriteTags(cv::FileStorage& fs, const std::vector<TagPlacement>& tags) {
 
 }  // namespace
 
+double FacingCosine(const Pose& cam_from_object, const Pose& object_from_tag) {
+  const Pose cam_from_tag = cam_from_object * object_from_tag;
+  const Eigen::Vector3d z = cam_from_tag.R().col(2);  // into the tag
+  const Eigen::Vector3d ray = cam_from_tag.translation.normalized();
+  return z.dot(ray);
+}
+
 Eigen::Vector3d TagPlacement::CornerInObject(int k) const {
   static const double kSign[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
   const Eigen::Vector3d c_in_tag(0.5 * edge_m * kSign[k][0],

@@ -27,6 +27,10 @@ struct TagPlacement {
   Eigen::Vector3d CornerInObject(int k) const;
 };
 
+// Viewing angle cosine of a tag: 1 when it faces the camera squarely, <= 0
+// when seen edge-on or from behind.
+double FacingCosine(const Pose& cam_from_object, const Pose& object_from_tag);
+
 struct TankSpec {
   double size_x_m = 0;       // inner size along tank x (the long side)
   double size_y_m = 0;       // inner size along tank y

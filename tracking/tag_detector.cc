@@ -6,13 +6,13 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/check.h"
 #include "tracking/bilinear.h"
 #include "tracking/tag_family.h"
 
@@ -212,10 +212,8 @@ struct TagDetector::Impl {
 TagDetector::TagDetector(const TagDetectorOptions& options)
     : options_(options), impl_(new Impl) {
   std::string error;
-  if (!options.IsValid(&error)) {
-    std::fprintf(stderr, "TagDetector: invalid options: %s\n", error.c_str());
-    std::abort();
-  }
+  RIPPLE_CHECK(options.IsValid(&error),
+               "TagDetector: invalid options: " + error);
   impl_->family = TagFamily::Create(options.family);
   impl_->detector = apriltag_detector_create();
   apriltag_detector_add_family_bits(impl_->detector, impl_->family->get(),
@@ -236,7 +234,7 @@ TagDetector& TagDetector::operator=(TagDetector&&) noexcept = default;
 
 std::vector<TagDetection> TagDetector::Detect(
     const cv::Mat& image, const std::vector<cv::Rect>& rois) {
-  assert(image.depth() == CV_8U);
+  RIPPLE_CHECK(image.depth() == CV_8U, "TagDetector: image must be 8-bit");
   const cv::Mat* gray = &image;
   if (image.channels() == 3) {
     cv::cvtColor(image, impl_->gray, cv::COLOR_BGR2GRAY);

@@ -3,10 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/check.h"
 #include "tracking/tag_family.h"
 
 namespace ripple::tracking {
@@ -25,39 +24,10 @@ TrackerOptions WithRigFamily(TrackerOptions options, const Rig& rig) {
   return options;
 }
 
-void Check(bool ok, const std::string& what, const std::string& error) {
-  if (!ok) {
-    std::fprintf(stderr, "Tracker: invalid %s: %s\n", what.c_str(),
-                 error.c_str());
-    std::abort();
-  }
-}
-
-// Merges overlapping rectangles until none overlap.
-std::vector<cv::Rect> MergeRects(std::vector<cv::Rect> rects) {
-  bool merged = true;
-  while (merged) {
-    merged = false;
-    for (size_t i = 0; i < rects.size() && !merged; ++i) {
-      for (size_t j = i + 1; j < rects.size(); ++j) {
-        if ((rects[i] & rects[j]).area() > 0) {
-          rects[i] = rects[i] | rects[j];
-          rects.erase(rects.begin() + j);
-          merged = true;
-          break;
-        }
-      }
-    }
-  }
-  return rects;
-}
-
-// Viewing angle cosine of a face: 1 when it faces the camera squarely.
-double FacingCosine(const Pose& cam_from_object, const Pose& object_from_tag) {
-  const Pose cam_from_tag = cam_from_object * object_from_tag;
-  const Eigen::Vector3d z = cam_from_tag.R().col(2);  // into the tag
-  const Eigen::Vector3d ray = cam_from_tag.translation.normalized();
-  return z.dot(ray);
+const TagDetectorOptions& ValidDetectorOptions(const TrackerOptions& options) {
+  std::string error;
+  RIPPLE_CHECK(options.IsValid(&error), "Tracker: invalid options: " + error);
+  return options.detector;
 }
 
 }  // namespace
@@ -89,19 +59,11 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!pose.IsValid(error)) return false;
   if (!pen_dense.IsValid(error)) return false;
   if (!smoothing.IsValid(error)) return false;
+  if (!pen_hypotheses.IsValid(error)) return false;
+  if (!roi.IsValid(error)) return false;
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
     return fail("flip_angle_deg must be in (0, 180)");
-  if (!(hypothesis_decay >= 0 && hypothesis_decay <= 1))
-    return fail("hypothesis_decay must be in [0, 1]");
-  if (!(hypothesis_resolve_ratio > 0 && hypothesis_resolve_ratio < 1))
-    return fail("hypothesis_resolve_ratio must be in (0, 1)");
-  if (!(hypothesis_switch_ratio > 0 && hypothesis_switch_ratio <= 1))
-    return fail("hypothesis_switch_ratio must be in (0, 1]");
-  if (!(hypothesis_memory_s >= 0))
-    return fail("hypothesis_memory_s must be >= 0");
-  if (hypothesis_min_frames < 1)
-    return fail("hypothesis_min_frames must be >= 1");
   if (!(ambiguity_margin_px >= 0))
     return fail("ambiguity_margin_px must be >= 0");
   if (!(flip_keep_rmse_px >= 0)) return fail("flip_keep_rmse_px must be >= 0");
@@ -110,9 +72,6 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!(cut_jump_fraction > 0)) return fail("cut_jump_fraction must be > 0");
   if (!(tank_hold_s >= 0 && pen_hold_s >= 0))
     return fail("hold times must be >= 0");
-  if (full_search_period < 1) return fail("full_search_period must be >= 1");
-  if (!(roi_margin_fraction >= 0 && roi_margin_px >= 0))
-    return fail("roi margins must be >= 0");
   return true;
 }
 
@@ -121,17 +80,19 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
     : camera_(camera),
       rig_(rig),
       options_(WithRigFamily(options, rig)),
-      detector_((Check(options_.IsValid(nullptr), "options", ""),
-                 options_.detector)) {
+      detector_(ValidDetectorOptions(options_)),
+      roi_search_(options_.roi) {
   std::string error;
-  Check(camera.IsValid(&error), "camera", error);
-  Check(rig.IsValid(&error), "rig", error);
+  RIPPLE_CHECK(camera.IsValid(&error), "Tracker: invalid camera: " + error);
+  RIPPLE_CHECK(rig.IsValid(&error), "Tracker: invalid rig: " + error);
   if (rig_.pen && options_.pen_dense.enabled) {
     const auto family = TagFamily::Create(rig_.family);
-    Check(family != nullptr, "rig", "unknown tag family " + rig_.family);
+    RIPPLE_CHECK(family != nullptr,
+                 "Tracker: invalid rig: unknown tag family " + rig_.family);
     pen_dense_model_ = DenseTagModel::Create(*family, rig_.pen->faces,
                                              options_.pen_dense, &error);
-    Check(pen_dense_model_.has_value(), "rig", error);
+    RIPPLE_CHECK(pen_dense_model_.has_value(),
+                 "Tracker: invalid rig: " + error);
   }
   Reset();
 }
@@ -141,51 +102,9 @@ void Tracker::Reset() {
   pen_ = ObjectState{};
   tank_.filter = PoseFilter(options_.smoothing);
   pen_.filter = PoseFilter(options_.smoothing);
+  roi_search_.Reset();
   frame_ = 0;
-  frames_since_full_ = 0;
   last_corners_.clear();
-}
-
-std::vector<cv::Rect> Tracker::PredictRois() const {
-  std::vector<cv::Rect> rects;
-  auto add_object = [&](const std::optional<Pose>& pose,
-                        const std::vector<TagPlacement>& tags) {
-    if (!pose) return;
-    for (const TagPlacement& tag : tags) {
-      // Skip faces turned well away from the camera.
-      if (FacingCosine(*pose, tag.object_from_tag) < -0.2) continue;
-      double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
-      bool ok = true;
-      for (int k = 0; k < 4; ++k) {
-        const Eigen::Vector3d p = *pose * tag.CornerInObject(k);
-        if (p.z() <= 1e-3) {
-          ok = false;
-          break;
-        }
-        const Eigen::Vector2d uv = camera_.Project(p);
-        x0 = std::min(x0, uv.x());
-        y0 = std::min(y0, uv.y());
-        x1 = std::max(x1, uv.x());
-        y1 = std::max(y1, uv.y());
-      }
-      if (!ok) continue;
-      const double m =
-          options_.roi_margin_fraction * std::max(x1 - x0, y1 - y0) +
-          options_.roi_margin_px;
-      x0 = std::max(x0 - m, -1.0);
-      y0 = std::max(y0 - m, -1.0);
-      x1 = std::min(x1 + m, double(camera_.width));
-      y1 = std::min(y1 + m, double(camera_.height));
-      if (x1 <= x0 || y1 <= y0) continue;
-      const int ix0 = static_cast<int>(std::floor(x0)),
-                iy0 = static_cast<int>(std::floor(y0));
-      rects.emplace_back(ix0, iy0, static_cast<int>(std::ceil(x1)) - ix0,
-                         static_cast<int>(std::ceil(y1)) - iy0);
-    }
-  };
-  add_object(tank_.last_output, rig_.tank_tags);
-  if (rig_.pen) add_object(pen_.last_output, rig_.pen->faces);
-  return MergeRects(rects);
 }
 
 bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
@@ -232,112 +151,18 @@ std::optional<Tracker::Estimate> Tracker::CheckFlip(
 void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
                               bool use_prior, double time_s,
                               Estimate* e) const {
-  if (!options_.pen_multi_hypothesis) return;
-  const double flip = options_.flip_angle_deg * kDegToRad;
-  auto fits = [&](const ObjectPose& p) {
-    return p.rmse_px <= options_.max_rmse_px;
-  };
-  if (use_prior && pen_.last_raw && pen_.other_raw) {
-    // Both branches alive: refine each from its own last pose. Without
-    // refinement, each follows the nearest of this frame's two IPPE branches.
-    const std::vector<Pose> fresh =
-        e->pose.alternative
-            ? std::vector<Pose>{e->pose.cam_from_object, *e->pose.alternative}
-            : std::vector<Pose>{e->pose.cam_from_object};
-    auto follow = [&](const Pose& from, ObjectPose* out) {
-      if (options_.pose.refine)
-        return RefineObjectPose(options_.pose, camera_, obs, from, out) &&
-               fits(*out);
-      const Pose* nearest = nullptr;
-      for (const Pose& p : fresh)
-        if (RotationDistance(p, from) <= flip &&
-            (!nearest ||
-             RotationDistance(p, from) < RotationDistance(*nearest, from)))
-          nearest = &p;
-      return nearest &&
-             RefineObjectPose(options_.pose, camera_, obs, *nearest, out) &&
-             fits(*out);
-    };
-    ObjectPose main, other;
-    const bool main_ok = follow(*pen_.last_raw, &main);
-    const bool other_ok = follow(*pen_.other_raw, &other);
-    if (!main_ok && !other_ok) return;  // this frame's own estimate stands
-    const double d = options_.hypothesis_decay;
-    double cost = d * pen_.cost + main.sse_px2;
-    double other_cost = d * pen_.other_cost + other.sse_px2;
-    const int frames = pen_.hypothesis_frames + 1;
-    // A decisive frame (e.g. a second face came into view): one branch fails
-    // to explain the corners and the other does clearly better.
-    const double resolve = options_.hypothesis_resolve_ratio;
-    auto beats = [&](const ObjectPose& a, const ObjectPose& b) {
-      return b.rmse_px > options_.flip_keep_rmse_px &&
-             a.sse_px2 < resolve * b.sse_px2;
-    };
-    const bool decisive =
-        main_ok && other_ok && (beats(main, other) || beats(other, main));
-    // Reported: the branch reported so far until the other's error sum is
-    // clearly lower (or the only one left, or the decisive winner).
-    const bool swap = !main_ok || (decisive && beats(other, main)) ||
-                      (!decisive && other_ok &&
-                       other_cost < options_.hypothesis_switch_ratio * cost);
-    if (swap) {
-      std::swap(main, other);
-      std::swap(cost, other_cost);
-    }
-    const bool other_alive =
-        main_ok && other_ok && !decisive &&
-        RotationDistance(main.cam_from_object, other.cam_from_object) > flip &&
-        !(frames >= options_.hypothesis_min_frames &&
-          cost < resolve * other_cost);
-    e->pose = main;
-    e->flip_rejected = false;
-    e->jumped = false;
-    e->other.reset();
-    e->cost = cost;
-    e->other_cost = 0;
-    e->hypothesis_frames = 0;
-    if (other_alive) {
-      e->pose.alternative = other.cam_from_object;
-      e->pose.alternative_rmse_px = other.rmse_px;
-      e->other = other.cam_from_object;
-      e->other_cost = other_cost;
-      e->hypothesis_frames = frames;
-    }
-    return;
-  }
-  // A new ambiguity: the pen is being acquired (first frame, after a loss or
-  // a cut) and this frame's estimate came with a close other branch. A pen
-  // already tracked keeps its branch by continuity (the flip check).
-  const bool acquiring = !use_prior || !pen_.last_raw;
-  if (!acquiring || e->flip_rejected || !e->pose.alternative ||
-      e->pose.alternative_rmse_px >
-          e->pose.rmse_px + options_.ambiguity_margin_px ||
-      RotationDistance(*e->pose.alternative, e->pose.cam_from_object) <= flip)
-    return;
-  ObjectPose other;
-  if (!RefineObjectPose(options_.pose, camera_, obs, *e->pose.alternative,
-                        &other) ||
-      other.rmse_px > options_.max_rmse_px)
-    return;
-  // Re-acquired shortly after a loss: report the branch nearer the last
-  // pose (a pen does not turn by the gap between two branches while briefly
-  // hidden).
-  if (use_prior && !pen_.last_raw && pen_.lost_raw &&
-      time_s - pen_.last_seen_s <= options_.hypothesis_memory_s &&
-      RotationDistance(other.cam_from_object, *pen_.lost_raw) <
-          RotationDistance(e->pose.cam_from_object, *pen_.lost_raw)) {
-    other.alternative = e->pose.cam_from_object;
-    other.alternative_rmse_px = e->pose.rmse_px;
-    std::swap(e->pose, other);
-  }
-  if (std::getenv("RIPPLE_HYP_DEBUG"))
-    std::fprintf(stderr, "hyp start main %.3f (%.2f px) other %.3f (%.2f px)\n",
-                 e->pose.sse_px2, e->pose.rmse_px, other.sse_px2,
-                 other.rmse_px);
-  e->other = other.cam_from_object;
-  e->cost = e->pose.sse_px2;
-  e->other_cost = other.sse_px2;
-  e->hypothesis_frames = 1;
+  const PenHypothesisInputs in{camera_,
+                               options_.pose,
+                               options_.max_rmse_px,
+                               options_.flip_angle_deg,
+                               options_.flip_keep_rmse_px,
+                               options_.ambiguity_margin_px,
+                               pen_.last_raw,
+                               pen_.lost_raw,
+                               pen_.last_seen_s,
+                               pen_.hypotheses};
+  TrackPenHypotheses(options_.pen_hypotheses, in, obs, use_prior, time_s,
+                     &e->pose, &e->flip_rejected, &e->jumped, &e->hypotheses);
 }
 
 std::optional<Tracker::Estimate> Tracker::EstimateTank(
@@ -399,16 +224,17 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   // Acquiring: keep the other branch of an ambiguous view however much
   // worse its IPPE start is, so that both can be followed.
   PoseEstimatorOptions acquire = options_.pose;
-  if (options_.pen_multi_hypothesis) acquire.ambiguity_ratio = 1e12;
+  if (options_.pen_hypotheses.enabled) acquire.ambiguity_ratio = 1e12;
   if (options_.pen_mode == PenMode::kJoint || obs.size() == 1) {
     ObjectPose pose;
     // Without refinement the branches alive follow this frame's IPPE pair.
-    const bool both = !prior || (pen_.other_raw && !options_.pose.refine);
+    const bool both =
+        !prior || (pen_.hypotheses.other && !options_.pose.refine);
     if (!EstimateObjectPose(both ? acquire : options_.pose, camera_, obs, {},
                             &pose))
       return std::nullopt;
     if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);
-    auto e = CheckFlip(obs, pose, pen_.other_raw ? std::nullopt : prior);
+    auto e = CheckFlip(obs, pose, pen_.hypotheses.other ? std::nullopt : prior);
     if (e) TrackHypotheses(obs, use_prior, time_s, &*e);
     if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
     return e;
@@ -438,8 +264,8 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   }
   if (!best) return std::nullopt;
   if (use_tip_prior) PreferPlausibleTip(best_obs, *cam_from_tank, &best->pose);
-  auto e =
-      CheckFlip(best_obs, best->pose, pen_.other_raw ? std::nullopt : prior);
+  auto e = CheckFlip(best_obs, best->pose,
+                     pen_.hypotheses.other ? std::nullopt : prior);
   if (e) TrackHypotheses(best_obs, use_prior, time_s, &*e);
   if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
   return e;
@@ -458,13 +284,10 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
     out->reinitialized = fresh;
     out->flip_rejected = estimate->flip_rejected;
     out->jumped = estimate->jumped && !cut;
-    out->ambiguous = estimate->other.has_value();
+    out->ambiguous = estimate->hypotheses.other.has_value();
     state->last_raw = estimate->pose.cam_from_object;
     state->lost_raw.reset();
-    state->other_raw = estimate->other;
-    state->cost = estimate->cost;
-    state->other_cost = estimate->other_cost;
-    state->hypothesis_frames = estimate->hypothesis_frames;
+    state->hypotheses = estimate->hypotheses;
     out->cam_from_object =
         state->filter.Filter(estimate->pose.cam_from_object, time_s);
     state->last_output = out->cam_from_object;
@@ -481,7 +304,7 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
   if (cut) state->lost_raw.reset();
   state->last_raw.reset();
   state->last_output.reset();
-  state->other_raw.reset();
+  state->hypotheses.other.reset();
   state->filter.Reset();
   out->status = TrackStatus::kLost;
 }
@@ -553,37 +376,14 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     cv::cvtColor(image, gray_, cv::COLOR_BGRA2GRAY);
     gray = &gray_;
   }
-  const bool any_pose =
-      tank_.last_output.has_value() || pen_.last_output.has_value();
-  bool full = !options_.roi_search || !any_pose ||
-              frames_since_full_ + 1 >= options_.full_search_period;
-  std::vector<TagDetection> detections;
-  if (!full) {
-    const std::vector<cv::Rect> rois = PredictRois();
-    if (rois.empty()) {
-      full = true;
-    } else {
-      detections = detector_.Detect(*gray, rois);
-      // Fall back to the whole frame when a tracked object went missing.
-      auto found = [&](const std::vector<TagPlacement>& tags) {
-        for (const TagDetection& d : detections)
-          for (const TagPlacement& t : tags)
-            if (t.id == d.id) return true;
-        return false;
-      };
-      const bool tank_missing =
-          tank_.last_output.has_value() && !found(rig_.tank_tags);
-      const bool pen_missing =
-          rig_.pen && pen_.last_output.has_value() && !found(rig_.pen->faces);
-      if (tank_missing || pen_missing) full = true;
-    }
-  }
-  if (full) {
-    detections = detector_.Detect(*gray);
-    frames_since_full_ = 0;
-  } else {
-    ++frames_since_full_;
-  }
+  std::vector<RoiObject> objects = {
+      {tank_.last_output ? &*tank_.last_output : nullptr, &rig_.tank_tags}};
+  if (rig_.pen)
+    objects.push_back(
+        {pen_.last_output ? &*pen_.last_output : nullptr, &rig_.pen->faces});
+  bool full = true;
+  const std::vector<TagDetection> detections =
+      roi_search_.Detect(&detector_, *gray, camera_, objects, &full);
   const double t1 = NowMs();
   FrameResult r = Update(detections, time_s, gray);
   const double t2 = NowMs();

@@ -26,11 +26,14 @@
 #include "tracking/camera.h"
 #include "tracking/dense_refine.h"
 #include "tracking/object_pose.h"
+#include "tracking/pen_hypotheses.h"
 #include "tracking/pose.h"
 #include "tracking/pose_csv.h"
 #include "tracking/pose_filter.h"
 #include "tracking/rig.h"
+#include "tracking/roi_search.h"
 #include "tracking/tag_detector.h"
+#include "tracking/track_result.h"
 
 namespace ripple::tracking {
 
@@ -82,43 +85,18 @@ struct TrackerOptions {
   // (tank extent + 5 cm), not below the table, at most 0.3 m above it.
   bool pen_tip_prior = true;
   // Ambiguous means the other branch's RMS error is within this of the
-  // chosen one's (pixels).
+  // chosen one's (pixels); it applies to the tip prior and to starting the
+  // two-hypothesis pen track.
   double ambiguity_margin_px = 1.0;
-  // Two-hypothesis pen track: when the pen is acquired (first frame, after a
-  // loss or a cut) from an ambiguous view (the other branch, refined, within
-  // ambiguity_margin_px RMS and more than flip_angle_deg away), the other
-  // branch is kept alive next to the reported one. Every frame each is
-  // refined from its own last pose on the new corners (newly visible faces
-  // included) and carries a decaying sum of its squared errors
-  // (hypothesis_decay per frame). The reported branch changes only when the
-  // other's sum falls below hypothesis_switch_ratio times its own. The loser
-  // is dropped when its sum exceeds the winner's by 1 /
-  // hypothesis_resolve_ratio (after hypothesis_min_frames frames), at once
-  // when in one frame it fails (RMS above flip_keep_rmse_px) with 1 /
-  // hypothesis_resolve_ratio times the winner's error (e.g. a second face
-  // appeared) or exceeds max_rmse_px, or when the branches merge. While both
-  // are alive the track is ObjectTrack::ambiguous and the flip check is off,
-  // so flip rejection cannot lock a wrong branch in.
-  bool pen_multi_hypothesis = true;
-  double hypothesis_decay = 0.9;
-  double hypothesis_switch_ratio = 0.5;
-  double hypothesis_resolve_ratio = 0.1;
-  // An ambiguous pen re-acquired within this long of being lost starts on
-  // the branch nearer its last pose (seconds).
-  double hypothesis_memory_s = 0.5;
-  int hypothesis_min_frames = 5;
+  // The two-hypothesis pen track (tracking/pen_hypotheses.h).
+  PenHypothesisOptions pen_hypotheses;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;
   double pen_hold_s = 0.0;
 
-  // Region search: detect only in boxes around the tags predicted from the
-  // last poses, with a full-frame search every full_search_period frames,
-  // whenever nothing is being tracked, and as a fallback in a frame where a
-  // tracked object is not found in its regions.
-  bool roi_search = true;
-  int full_search_period = 10;       // frames
-  double roi_margin_fraction = 0.5;  // of the predicted tag's size
-  double roi_margin_px = 12.0;       // pixels
+  // Region search around the tags predicted from the last poses
+  // (tracking/roi_search.h).
+  RoiSearchOptions roi;
 
   PoseFilterOptions smoothing;  // disabled by default
 
@@ -129,42 +107,6 @@ struct TrackerOptions {
   DenseRefineOptions pen_dense;
 
   bool IsValid(std::string* error) const;
-};
-
-struct ObjectTrack {
-  TrackStatus status = TrackStatus::kLost;
-  std::optional<Pose> cam_from_object;  // set iff tracked or held
-  double rmse_px = 0;          // of this frame's estimate (0 when not tracked)
-  std::vector<int> tags;       // tags (pen faces) used this frame
-  bool reinitialized = false;  // first pose after being lost, or after a cut
-  bool flip_rejected = false;  // a >flip_angle jump was resolved back
-  bool jumped = false;  // a >flip_angle jump was accepted (clearly lower error)
-  // Two branches of an ambiguous view are both alive (pen only); the pose is
-  // the one that explains the corners better so far, and may still switch.
-  bool ambiguous = false;
-
-  bool has_pose() const { return cam_from_object.has_value(); }
-};
-
-struct FrameTimings {
-  double detect_ms = 0;  // grey conversion + detection (all searches)
-  double pose_ms = 0;    // pose estimation and temporal logic
-  double dense_ms = 0;   // of which the pen's dense refinement
-  double total_ms = 0;
-  bool full_search = true;  // the whole frame was searched
-};
-
-struct FrameResult {
-  int frame = 0;  // index since construction or Reset()
-  double time_s = 0;
-  ObjectTrack tank;
-  ObjectTrack pen;  // always kLost for a rig without a pen
-  // Pen tip in the tank frame: tank_from_cam * cam_from_pen * tip_in_pen,
-  // when both objects have a pose.
-  std::optional<Eigen::Vector3d> tip_in_tank;
-  bool cut = false;                      // a cut was detected in this frame
-  std::vector<TagDetection> detections;  // all detected tags, corrected
-  FrameTimings timings;
 };
 
 class Tracker {
@@ -199,24 +141,17 @@ class Tracker {
     double last_seen_s = 0;
     bool ever_seen = false;
     PoseFilter filter;
-    // The other branch of an ambiguous view (pen_multi_hypothesis), and the
-    // decaying error sums of the reported branch and of it.
-    std::optional<Pose> other_raw;
     std::optional<Pose> lost_raw;  // last_raw when the object was lost
-    double cost = 0, other_cost = 0;
-    int hypothesis_frames = 0;
+    // The other branch of an ambiguous view (pen only).
+    PenHypotheses hypotheses;
   };
   struct Estimate {
     ObjectPose pose;
     bool flip_rejected = false;
     bool jumped = false;
-    // Two-hypothesis state to carry forward (see ObjectState).
-    std::optional<Pose> other;
-    double cost = 0, other_cost = 0;
-    int hypothesis_frames = 0;
+    PenHypotheses hypotheses;  // to carry forward (pen only)
   };
 
-  std::vector<cv::Rect> PredictRois() const;
   bool IsCut(const std::vector<TagDetection>& detections) const;
   std::optional<Estimate> EstimateTank(const std::vector<TagObservation>& obs,
                                        bool use_prior) const;
@@ -227,9 +162,9 @@ class Tracker {
   // Applies pen_tip_prior to an estimate made without a prior.
   void PreferPlausibleTip(const std::vector<TagObservation>& obs,
                           const Pose& cam_from_tank, ObjectPose* pose) const;
-  // Carries the two branches of an ambiguous pen forward (see
-  // TrackerOptions::pen_multi_hypothesis); `e` is this frame's estimate from
-  // `obs`, after the flip check.
+  // Carries the two branches of an ambiguous pen forward
+  // (tracking/pen_hypotheses.h); `e` is this frame's estimate from `obs`,
+  // after the flip check.
   void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
                        double time_s, Estimate* e) const;
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
@@ -249,8 +184,8 @@ class Tracker {
   cv::Mat gray_;  // grey conversion of a colour frame
   ObjectState tank_;
   ObjectState pen_;
+  RoiSearch roi_search_;
   int frame_ = 0;
-  int frames_since_full_ = 0;
   std::map<int, std::array<Eigen::Vector2d, 4>> last_corners_;
 };
 

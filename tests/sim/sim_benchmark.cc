@@ -32,7 +32,7 @@ void Disturb(BasicWater<T>* water) {
   water->SetState(h);
 }
 
-// The bare sub-step (the speed table), reflecting walls, no
+// The bare sub-step (docs/sim.md's speed table), reflecting walls, no
 // obstacles, float.
 void BM_SubStep(benchmark::State& state) {
   Water water(Square(static_cast<int>(state.range(0))), WaterOptions());

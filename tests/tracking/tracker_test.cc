@@ -394,8 +394,8 @@ TEST(TrackerTest, RegionSearchOnRenderedFrames) {
   const Camera camera = MakeIdealCamera(640, 480, 60.0);
   auto family = TagFamily::Create(rig.family);
   TrackerOptions roi_options, full_options;
-  roi_options.full_search_period = 4;
-  full_options.roi_search = false;
+  roi_options.roi.full_search_period = 4;
+  full_options.roi.enabled = false;
   Tracker roi(camera, rig, roi_options), full(camera, rig, full_options);
   int roi_frames = 0;
   for (int f = 0; f < 8; ++f) {
@@ -462,7 +462,7 @@ TEST(TrackerOptionsTest, Validates) {
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("quad_decimate"), std::string::npos);
   options = TrackerOptions{};
-  options.full_search_period = 0;
+  options.roi.full_search_period = 0;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_EQ(ParsePenMode("best-face"), PenMode::kBestFace);
   EXPECT_FALSE(ParsePenMode("best"));

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/check.h"
 #include "tracking/synth/synth.h"
 #include "tracking/tag_family.h"
 #include "tracking/tracker.h"
@@ -38,25 +39,17 @@ const Frames& BenchmarkFrames() {
     auto camera = LoadCamera(
         std::string(RIPPLE_SOURCE_DIR) + "/data/camera/default_640x480.yml",
         &error);
-    if (!camera) {
-      std::fprintf(stderr, "%s\n", error.c_str());
-      std::abort();
-    }
+    RIPPLE_CHECK(camera.has_value(), error);
     f->camera = *camera;
     auto rig = LoadRig(std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml",
                        &error);
-    if (!rig) {
-      std::fprintf(stderr, "%s\n", error.c_str());
-      std::abort();
-    }
+    RIPPLE_CHECK(rig.has_value(), error);
     f->rig = *rig;
     synth::SequenceOptions seq;
     seq.frames = 100;
     std::vector<synth::FrameSpec> specs;
-    if (!synth::MakeSequence(f->camera, f->rig, seq, &specs, &error)) {
-      std::fprintf(stderr, "%s\n", error.c_str());
-      std::abort();
-    }
+    RIPPLE_CHECK(synth::MakeSequence(f->camera, f->rig, seq, &specs, &error),
+                 error);
     synth::SceneRenderer renderer(f->camera, f->rig);
     for (const synth::FrameSpec& spec : specs) {
       const synth::RenderedFrame frame =
@@ -132,7 +125,7 @@ BENCHMARK(BM_LibapriltagFullFrame)
 void BM_Track(benchmark::State& state) {
   const Frames& f = BenchmarkFrames();
   TrackerOptions options;
-  options.roi_search = state.range(0) != 0;
+  options.roi.enabled = state.range(0) != 0;
   options.pen_dense.enabled = state.range(1) != 0;
   Tracker tracker(f.camera, f.rig, options);
   size_t i = 0;

@@ -1,0 +1,68 @@
+// Region-of-interest scheduling for the tracker: detect tags only in boxes
+// around where the last poses put them, with a whole-frame search every
+// full_search_period frames, whenever nothing is being tracked, and as a
+// fallback in a frame where a tracked object is not found in its regions.
+#ifndef RIPPLE_TRACKING_ROI_SEARCH_H_
+#define RIPPLE_TRACKING_ROI_SEARCH_H_
+
+#include <opencv2/core.hpp>
+#include <string>
+#include <vector>
+
+#include "tracking/camera.h"
+#include "tracking/pose.h"
+#include "tracking/rig.h"
+#include "tracking/tag_detector.h"
+
+namespace ripple::tracking {
+
+struct RoiSearchOptions {
+  // Off: every frame is searched whole.
+  bool enabled = true;
+  int full_search_period = 10;   // frames between whole-frame searches
+  double margin_fraction = 0.5;  // box margin, fraction of the tag's size
+  double margin_px = 12.0;       // box margin added to that, pixels
+
+  bool IsValid(std::string* error) const;
+};
+
+// An object whose tags the region search looks for. Not owned.
+struct RoiObject {
+  const Pose* cam_from_object = nullptr;  // null: no pose, no regions
+  const std::vector<TagPlacement>* tags = nullptr;
+};
+
+// Pixel boxes around the predicted tags of `objects` (faces turned well away
+// from the camera skipped), margins added, clipped to the image and merged
+// until none overlap.
+std::vector<cv::Rect> PredictTagRois(const RoiSearchOptions& options,
+                                     const Camera& camera,
+                                     const std::vector<RoiObject>& objects);
+
+// Decides per frame whether to search regions or the whole frame; counts
+// frames since the last whole-frame search.
+class RoiSearch {
+ public:
+  explicit RoiSearch(const RoiSearchOptions& options = {})
+      : options_(options) {}
+
+  // This frame's detections in `gray` (CV_8UC1): in the regions of
+  // `objects` when allowed, else (or when an object with a pose is missing
+  // from its regions) in the whole frame. `full` (may be null) tells which.
+  std::vector<TagDetection> Detect(TagDetector* detector, const cv::Mat& gray,
+                                   const Camera& camera,
+                                   const std::vector<RoiObject>& objects,
+                                   bool* full);
+  // The next frame starts a new period (a new video).
+  void Reset() { frames_since_full_ = 0; }
+
+  const RoiSearchOptions& options() const { return options_; }
+
+ private:
+  RoiSearchOptions options_;
+  int frames_since_full_ = 0;
+};
+
+}  // namespace ripple::tracking
+
+#endif  // RIPPLE_TRACKING_ROI_SEARCH_H_

@@ -7,6 +7,7 @@
 
 #include "app/app_common.h"
 #include "app/app_loop.h"
+#include "app/app_options.h"
 #include "app/app_pipeline.h"
 #include "app/app_sinks.h"
 #include "app/app_synth_source.h"
@@ -23,11 +24,11 @@ struct DemoArgs {
   std::string rig = DefaultRigPath();
   int frames = 240;
   int idle_frames = 60;
-  std::string gl = "egl";
   uint64_t seed = 1;
+  PipelineArgs pipeline;  // --gl, water and effects
 };
 
-int RunDemo(const DemoArgs& args) {
+int RunDemo(DemoArgs args) {
   auto camera = LoadCameraOrReport(args.camera);
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
@@ -38,13 +39,12 @@ int RunDemo(const DemoArgs& args) {
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
-  PipelineOptions options;
-  options.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
-  const auto backend = render::ParseBackend(args.gl);
-  if (!backend)
-    return Fail(kExitBadInput,
-                "--gl '" + args.gl + "': use egl, osmesa or glfw");
-  options.backend = *backend;
+  if (!FinishPipelineOptions(&args.pipeline, "egl", &error))
+    return Fail(kExitBadInput, error);
+  if (args.pipeline.options.window)
+    return Fail(kExitBadInput, "--gl glfw: the demo is headless (egl, osmesa)");
+  const PipelineOptions& options = args.pipeline.options;
+  const render::Backend* backend = &options.backend;
   auto pipeline = Pipeline::Create(*camera, *rig, options, &error);
   if (!pipeline) return Fail(kExitRuntime, error);
 
@@ -128,8 +128,7 @@ CommandAction SetupDemo(CLI::App* sub) {
   sub->add_option("--idle-frames", args->idle_frames, "Frames of the idle tail")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
-  sub->add_option("--gl", args->gl, "GL backend: egl, osmesa")
-      ->capture_default_str();
+  AddPipelineOptions(sub, &args->pipeline);
   sub->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
   return [args] { return RunDemo(*args); };
 }

@@ -10,6 +10,8 @@
 // 1/(nx*ny). FFTW (libfftw3-dev) is used because fast cosine transforms of
 // arbitrary sizes are what it was written for; plans are made once per size
 // and shared (FFTW's planner is not thread-safe, execution is).
+// The plans are deterministic, so a replay gives the same heights bit for
+// bit.
 #ifndef RIPPLE_SIM_COSINE_TRANSFORM_H_
 #define RIPPLE_SIM_COSINE_TRANSFORM_H_
 
@@ -44,7 +46,8 @@ class AlignedFloats {
 
 class CosineTransform2D {
  public:
-  // nx, ny >= 1. Plans with FFTW_MEASURE the first time a size is seen.
+  // nx, ny >= 1. Plans (FFTW_ESTIMATE, deterministic) the first time a size
+  // is seen.
   CosineTransform2D(int nx, int ny);
   ~CosineTransform2D();
   CosineTransform2D(const CosineTransform2D&) = delete;

@@ -27,7 +27,7 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   PipelineOptions& o = args->options;
   if (!ResolveWaterOptions(args->water, &o.water, &o.sim_cells_x, error))
     return false;
-  o.keep_push_radius = args->water.radius_m != -1;
+  o.keep_push_radius = args->water.radius_m.given;
   o.backend = *backend;
   o.window = *backend == render::Backend::kGlfw;
   o.effects.caustics = !args->no_caustics;

@@ -6,6 +6,23 @@
 
 namespace ripple::app {
 
+namespace {
+
+// A number option whose presence is recorded; NaN and infinities are
+// refused by the model's own range checks.
+void AddValue(CLI::App* sub, const std::string& name, WaterArgs::Value* v,
+              const std::string& help) {
+  sub->add_option_function<double>(
+      name,
+      [v](const double& x) {
+        v->value = x;
+        v->given = true;
+      },
+      help);
+}
+
+}  // namespace
+
 void AddWaterOptions(CLI::App* sub, WaterArgs* args) {
   sub->add_option("--waves", args->waves,
                   "Wave model: capillary (capillary-gravity dispersion, "
@@ -21,17 +38,17 @@ void AddWaterOptions(CLI::App* sub, WaterArgs* args) {
       ->capture_default_str();
   sub->add_option("--walls", args->walls, "Tank walls: reflect or absorb")
       ->capture_default_str();
-  sub->add_option("--viscosity", args->viscosity_m2_per_s,
-                  "Kinematic viscosity nu, m^2/s (capillary model; water "
-                  "1e-6, honey ~1e-2)");
-  sub->add_option("--damping", args->damping_per_s,
-                  "Velocity damping, 1/s (paper model)");
-  sub->add_option("--wave-speed", args->wave_speed_m_per_s,
-                  "Wave speed c, m/s (paper model)");
-  sub->add_option("--radius", args->radius_m,
-                  "Pen push radius r, m (small r: short waves)");
-  sub->add_option("--force", args->force_m_per_s2,
-                  "Paper push strength, m/s^2 (--pen paper)");
+  AddValue(sub, "--viscosity", &args->viscosity_m2_per_s,
+           "Kinematic viscosity nu, m^2/s (capillary model; water "
+           "1e-6, honey ~1e-2)");
+  AddValue(sub, "--damping", &args->damping_per_s,
+           "Velocity damping, 1/s (paper model)");
+  AddValue(sub, "--wave-speed", &args->wave_speed_m_per_s,
+           "Wave speed c, m/s (paper model)");
+  AddValue(sub, "--radius", &args->radius_m,
+           "Pen push radius r, m (small r: short waves)");
+  AddValue(sub, "--force", &args->force_m_per_s2,
+           "Paper push strength, m/s^2 (--pen paper)");
 }
 
 int DefaultWaterCells(sim::WaveModel model) {
@@ -57,7 +74,7 @@ bool ResolveWaterOptions(const WaterArgs& args, sim::WaterModelOptions* options,
     return fail("--walls '" + args.walls + "': use reflect or absorb");
   const sim::WallMode walls =
       args.walls == "absorb" ? sim::WallMode::kAbsorb : sim::WallMode::kReflect;
-  auto set = [](double v) { return v != -1; };
+  auto set = [](const WaterArgs::Value& v) { return v.given; };
   sim::WaterModelOptions o;
   o.waves = *waves;
   std::string why;
@@ -71,12 +88,13 @@ bool ResolveWaterOptions(const WaterArgs& args, sim::WaterModelOptions* options,
           "--viscosity is the capillary model's (m^2/s); the paper "
           "model's is --damping (1/s)");
     o.paper.walls = walls;
-    if (set(args.damping_per_s)) o.paper.viscosity_per_s = args.damping_per_s;
+    if (set(args.damping_per_s))
+      o.paper.viscosity_per_s = args.damping_per_s.value;
     if (set(args.wave_speed_m_per_s))
-      o.paper.wave_speed_m_per_s = args.wave_speed_m_per_s;
-    if (set(args.radius_m)) o.paper.pen_radius_m = args.radius_m;
+      o.paper.wave_speed_m_per_s = args.wave_speed_m_per_s.value;
+    if (set(args.radius_m)) o.paper.pen_radius_m = args.radius_m.value;
     if (set(args.force_m_per_s2))
-      o.paper.pen_strength_m_per_s2 = args.force_m_per_s2;
+      o.paper.pen_strength_m_per_s2 = args.force_m_per_s2.value;
     if (!o.paper.IsValid(&why)) return fail("water options: " + why);
   } else {
     if (set(args.damping_per_s))
@@ -89,9 +107,10 @@ bool ResolveWaterOptions(const WaterArgs& args, sim::WaterModelOptions* options,
     s.pen = *pen;
     s.walls = walls;
     if (set(args.viscosity_m2_per_s))
-      s.physics.kinematic_viscosity_m2_per_s = args.viscosity_m2_per_s;
-    if (set(args.radius_m)) s.pen_radius_m = args.radius_m;
-    if (set(args.force_m_per_s2)) s.pen_strength_m_per_s2 = args.force_m_per_s2;
+      s.physics.kinematic_viscosity_m2_per_s = args.viscosity_m2_per_s.value;
+    if (set(args.radius_m)) s.pen_radius_m = args.radius_m.value;
+    if (set(args.force_m_per_s2))
+      s.pen_strength_m_per_s2 = args.force_m_per_s2.value;
     if (!s.IsValid(&why)) return fail("water options: " + why);
   }
   const int n = args.cells == 0 ? DefaultWaterCells(*waves) : args.cells;

@@ -17,13 +17,17 @@ struct WaterArgs {
   std::string pen;  // displace | paper; empty: the model's (displace, paper)
   int cells = 0;    // along tank x; 0: the model's default
   std::string walls = "reflect";  // reflect | absorb
-  // Model parameters; unset ones keep the model's defaults. Each belongs to
-  // one model and is refused with the other.
-  double viscosity_m2_per_s = -1;  // capillary: kinematic viscosity nu
-  double damping_per_s = -1;       // paper: velocity damping
-  double wave_speed_m_per_s = -1;  // paper: c
-  double radius_m = -1;            // both: push radius
-  double force_m_per_s2 = -1;      // paper push (either model)
+  // Model parameters; those not given keep the model's defaults. Each
+  // belongs to one model and is refused with the other.
+  struct Value {
+    double value = 0;
+    bool given = false;
+  };
+  Value viscosity_m2_per_s;  // capillary: kinematic viscosity nu
+  Value damping_per_s;       // paper: velocity damping
+  Value wave_speed_m_per_s;  // paper: c
+  Value radius_m;            // both: push radius
+  Value force_m_per_s2;      // paper push (either model)
 };
 
 // Adds --waves, --pen, --sim-cells, --walls, --viscosity, --damping,

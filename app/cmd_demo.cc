@@ -77,7 +77,7 @@ int RunDemo(DemoArgs args) {
   if (!poses.Open(args.out + "/demo_poses.csv", &error))
     return Fail(kExitBadInput, error);
   PngSink snapshot({args.out + "/demo_frame.png",
-                    static_cast<int>(0.45 * args.frames), "", kExitRuntime});
+                    static_cast<int>(0.66 * args.frames), "", kExitRuntime});
 
   bench::StageTable active, idle;
   FunctionSink tables([&](const LoopFrame& f, LoopStop*) {

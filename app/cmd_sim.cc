@@ -217,7 +217,7 @@ int RunSim(SimArgs args) {
                               ? sim::ObstacleMode::kZero
                               : sim::ObstacleMode::kReflect;
   sim::GridSpec grid;
-  if (!WaterForRig(*rig, cells, args.water.radius_m != -1, &model, &grid,
+  if (!WaterForRig(*rig, cells, args.water.radius_m.given, &model, &grid,
                    &error))
     return Fail(kExitBadInput, args.rig + ": " + error);
   std::vector<sim::Obstacle> obstacles;

@@ -115,8 +115,8 @@ std::string DescribePreset(const std::string& name) {
     << "  hand occluder in " << int(100 * p.hand_fraction)
     << "% of frames (half of a random half of the segments)\n";
   if (p.scripted_demo)
-    s << "  demo script: fixed camera, the pen dips in, strokes across the "
-         "tank, passes the obstacle and lifts out\n";
+    s << "  demo script: fixed camera, the pen dips in, stirs slowly, "
+         "strokes fast under the obstacle and lifts out\n";
   return s.str();
 }
 
@@ -206,14 +206,28 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
         double pen_tilt = tilt, pen_az = tilt_az,
                spin = spin0 + (spin1 - spin0) * s;
         if (preset.scripted_demo) {
-          // Dip in at the left, stroke right past the obstacle, lift out.
-          const double x =
-              -0.06 + 0.12 * Smooth(std::clamp((t - 0.15) / 0.6, 0.0, 1.0));
-          const double y = 0.025 * std::sin(2 * M_PI * t);
-          const double down =
-              Smooth(std::clamp(t / 0.15, 0.0, 1.0)) *
-              (1 - Smooth(std::clamp((t - 0.8) / 0.15, 0.0, 1.0)));
-          tip = Vector3d(x, y, level + 0.03 - 0.04 * down);
+          // The events users try, timed for the default 8 s (240 frames at
+          // 30 fps; other lengths scale): dip in at the left (~0.07 m/s
+          // down), a slow stir (two turns of 15 mm at ~0.08 m/s, below the
+          // 0.23 m/s minimum phase speed of capillary-gravity waves), a
+          // fast stroke to the right under the obstacle (110 mm in 0.4 s,
+          // peaking near 0.4 m/s), waves left to ring, then a lift out.
+          const double sec = 8.0 * t;
+          auto ramp = [](double x, double a, double b) {
+            return Smooth(std::clamp((x - a) / (b - a), 0.0, 1.0));
+          };
+          const Vector2d stir_centre(-0.045, -0.012);
+          const double stir = 2 * M_PI * 2 * ramp(sec, 1.0, 4.2);
+          const Vector2d on_circle =
+              stir_centre + 0.015 * Vector2d(-std::cos(stir), -std::sin(stir));
+          const Vector2d start = stir_centre + Vector2d(-0.015, 0.0);
+          const Vector2d stroke_from(-0.05, -0.03), stroke_to(0.06, -0.03);
+          Vector2d xy = sec < 1.0 ? start : on_circle;
+          const double to_stroke = ramp(sec, 4.2, 4.6);
+          xy = xy + (stroke_from - xy) * to_stroke;
+          xy = xy + (stroke_to - stroke_from) * ramp(sec, 4.8, 5.2);
+          const double down = ramp(sec, 0.0, 1.0) * (1 - ramp(sec, 6.6, 7.4));
+          tip = Vector3d(xy.x(), xy.y(), level + 0.03 - 0.042 * down);
           pen_tilt = 20 * kDeg;
           pen_az = M_PI;
           spin = 30 * kDeg + 60 * kDeg * t;

@@ -220,6 +220,7 @@ bool SpectralWater::SetOptions(const WaterModelOptions& options,
   options_ = options;
   BuildPropagator();
   ChooseCoarseGrid();
+  RebuildMask();  // the obstacle box follows the band
   stats_.substep_s = options_.spectral.substep_s;
   wake_pending_ = true;
   return true;
@@ -322,6 +323,32 @@ void SpectralWater::RebuildMask() {
         soft_keep_.push_back(1.0f - m);
       }
     }
+  }
+  // The box path pays off while the box is small against the grid.
+  int bi0 = nx, bi1 = 0, bj0 = grid_.ny, bj1 = 0;
+  for (std::int32_t c : soft_cells_) {
+    bi0 = std::min(bi0, c % nx);
+    bi1 = std::max(bi1, c % nx + 1);
+    bj0 = std::min(bj0, c / nx);
+    bj1 = std::max(bj1, c / nx + 1);
+  }
+  box_ = BandBoxTransform();
+  if (!soft_cells_.empty() &&
+      static_cast<double>(bi1 - bi0) * (bj1 - bj0) < 0.25 * n_) {
+    box_.Reset(nx, grid_.ny, band_nx_, band_ny_, bi0, bi1, bj0, bj1);
+    const std::size_t w = bi1 - bi0, n = w * (bj1 - bj0);
+    box_h_.assign(n, 0.0f);
+    box_v_.assign(n, 0.0f);
+    box_keep_.assign(n, 1.0f);
+    box_water_.assign(n, 1);
+    for (std::size_t k = 0; k < soft_cells_.size(); ++k) {
+      const int i = soft_cells_[k] % nx, j = soft_cells_[k] / nx;
+      box_keep_[(j - bj0) * w + (i - bi0)] = soft_keep_[k];
+    }
+    for (int j = bj0; j < bj1; ++j)
+      for (int i = bi0; i < bi1; ++i)
+        box_water_[(j - bj0) * w + (i - bi0)] =
+            water_[static_cast<std::size_t>(j) * nx + i];
   }
   if (old != water_) {
     ++counter_;
@@ -464,7 +491,42 @@ int SpectralWater::BoundaryEverySteps() const {
                                       options_.spectral.substep_s)));
 }
 
+void SpectralWater::ImposeObstaclesInBox() {
+  // The same obstruction as below, on the band's surface at the box's cells
+  // only; the change is added back to the band's modes.
+  box_.Synthesize(X_.data(), box_h_.data());
+  box_.Synthesize(Y_.data(), box_v_.data());
+  const float mean = X_[0];
+  double obstacle_sum = 0, water_change = 0;
+  for (std::size_t k = 0; k < box_h_.size(); ++k) {
+    const float h = box_h_[k], drop = 1.0f - box_keep_[k];
+    const float dh = (mean - h) * drop;
+    box_h_[k] = dh;
+    box_v_[k] = -box_v_[k] * drop;
+    if (box_water_[k])
+      water_change += dh;
+    else
+      obstacle_sum += h;
+  }
+  box_.AddAnalysis(box_h_.data(), X_.data());
+  box_.AddAnalysis(box_v_.data(), Y_.data());
+  // Volume over the water cells: all cells (n * mean) less the obstacle
+  // cells, plus what the obstruction moved; the difference to the target is
+  // spread evenly (the mean mode).
+  if (num_water_ > 0) {
+    const double d2 = grid_.cell_m * grid_.cell_m;
+    const double sum =
+        static_cast<double>(n_) * mean - obstacle_sum + water_change;
+    X_[0] += static_cast<float>(
+        ((water_volume_m3_ + pen_volume_m3_) / d2 - sum) / num_water_);
+  }
+}
+
 void SpectralWater::ImposeBoundaries() {
+  if (sponge_.empty() && !box_.empty()) {
+    ImposeObstaclesInBox();
+    return;
+  }
   transform_.Synthesize(X_.data(), h_.data(), scratch_.data());
   transform_.Synthesize(Y_.data(), v_.data(), scratch_.data());
   float* h = h_.data();

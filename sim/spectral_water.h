@@ -46,6 +46,7 @@
 #include <string>
 #include <vector>
 
+#include "sim/band_box.h"
 #include "sim/cosine_transform.h"
 #include "sim/obstacle_cover.h"
 #include "sim/pen_path.h"
@@ -162,6 +163,11 @@ class SpectralWater final : public WaterSurface {
   // Cells the obstruction acts on and the share of their motion it keeps.
   std::vector<std::int32_t> soft_cells_;
   std::vector<float> soft_keep_;
+  // The soft cells' bounding box, its band-limited transforms and fields.
+  BandBoxTransform box_;
+  std::vector<float> box_h_, box_v_, box_keep_;
+  std::vector<std::uint8_t> box_water_;
+  void ImposeObstaclesInBox();
   std::vector<float> sponge_;  // per cell relaxation factor (absorb walls)
   std::vector<ObstacleSlot> obstacles_;
   int num_water_ = 0;

@@ -32,6 +32,7 @@
 #include "sim/grid.h"
 #include "sim/height_field.h"
 #include "sim/obstacle.h"
+#include "sim/obstacle_cover.h"
 #include "sim/transform.h"
 
 namespace ripple::sim {
@@ -182,11 +183,9 @@ class BasicWater {
     bool present = false;
     std::array<double, 3> tip = {0, 0, 0};
   };
-  struct ObstacleState {
+  // An obstacle and the cells it covers now.
+  struct ObstacleState : ObstacleCover {
     Obstacle obstacle;
-    // Cells it covers: bounding region [i0, i1) x [j0, j1) and occupancy.
-    int i0 = 0, i1 = 0, j0 = 0, j1 = 0;
-    std::vector<std::uint8_t> covers;
     bool removed = false;
   };
 

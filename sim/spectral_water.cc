@@ -638,18 +638,7 @@ HeightFieldView SpectralWater::View() const {
 }
 
 double SpectralWater::HeightAtPoint(double x_m, double y_m) const {
-  const int nx = grid_.nx, ny = grid_.ny;
-  const double fx =
-      std::clamp(x_m / grid_.cell_m + 0.5 * nx - 0.5, 0.0, nx - 1.0);
-  const double fy =
-      std::clamp(y_m / grid_.cell_m + 0.5 * ny - 0.5, 0.0, ny - 1.0);
-  const int i0 = std::min(static_cast<int>(fx), nx - 2);
-  const int j0 = std::min(static_cast<int>(fy), ny - 2);
-  const double ax = fx - i0, ay = fy - j0;
-  const float* r0 = h_.data() + static_cast<std::size_t>(j0) * nx;
-  const float* r1 = r0 + nx;
-  return (1 - ay) * ((1 - ax) * r0[i0] + ax * r0[i0 + 1]) +
-         ay * ((1 - ax) * r1[i0] + ax * r1[i0 + 1]);
+  return HeightAt(View(), x_m, y_m);
 }
 
 }  // namespace ripple::sim

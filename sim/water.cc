@@ -131,73 +131,14 @@ void BasicWater<T>::ClearPen() {
 }
 
 template <typename T>
-void BasicWater<T>::PushPenSample(bool present,
-                                  const std::array<double, 3>& tip) {
-  PenSample s;
-  s.time_s = time_s_;
-  s.present = present;
-  s.tip = tip;
-  if (pen_count_ < static_cast<int>(pen_history_.size())) {
-    pen_history_[pen_count_++] = s;
-  } else {
-    std::move(pen_history_.begin() + 1, pen_history_.end(),
-              pen_history_.begin());
-    pen_history_.back() = s;
-  }
-}
-
-template <typename T>
-bool BasicWater<T>::PenAt(double time_s, std::array<double, 3>* tip) const {
-  if (pen_count_ == 0) return false;
-  const PenSample& first = pen_history_[0];
-  const PenSample& last = pen_history_[pen_count_ - 1];
-  if (time_s <= first.time_s) {
-    *tip = first.tip;
-    return first.present;
-  }
-  if (time_s >= last.time_s) {
-    *tip = last.tip;
-    return last.present;
-  }
-  for (int s = 1; s < pen_count_; ++s) {
-    const PenSample& b = pen_history_[s];
-    if (time_s > b.time_s) continue;
-    const PenSample& a = pen_history_[s - 1];
-    if (time_s == b.time_s) {
-      *tip = b.tip;
-      return b.present;
-    }
-    if (!a.present || !b.present) return false;
-    const double span = b.time_s - a.time_s;
-    const double w = span > 0 ? (time_s - a.time_s) / span : 1.0;
-    for (int c = 0; c < 3; ++c)
-      (*tip)[c] = a.tip[c] + w * (b.tip[c] - a.tip[c]);
-    return true;
-  }
-  *tip = last.tip;
-  return last.present;
-}
-
-template <typename T>
 double BasicWater<T>::HeightAtPoint(double x_m, double y_m) const {
-  const int nx = grid_.nx, ny = grid_.ny;
-  const double fx =
-      std::clamp(x_m / grid_.cell_m + 0.5 * nx - 0.5, 0.0, nx - 1.0);
-  const double fy =
-      std::clamp(y_m / grid_.cell_m + 0.5 * ny - 0.5, 0.0, ny - 1.0);
-  const int i0 = std::min(static_cast<int>(fx), nx - 2);
-  const int j0 = std::min(static_cast<int>(fy), ny - 2);
-  const double ax = fx - i0, ay = fy - j0;
-  const T* r0 = h_.data() + static_cast<size_t>(j0) * nx;
-  const T* r1 = r0 + nx;
-  return (1 - ay) * ((1 - ax) * r0[i0] + ax * r0[i0 + 1]) +
-         ay * ((1 - ax) * r1[i0] + ax * r1[i0 + 1]);
+  return HeightAt(View(), x_m, y_m);
 }
 
 template <typename T>
 bool BasicWater<T>::PenTouches(double time_s,
                                std::array<double, 3>* tip) const {
-  if (!PenAt(time_s, tip)) return false;
+  if (!pen_path_.At(time_s, tip)) return false;
   const double hx = 0.5 * grid_.nx * grid_.cell_m;
   const double hy = 0.5 * grid_.ny * grid_.cell_m;
   if (!(std::abs((*tip)[0]) <= hx && std::abs((*tip)[1]) <= hy)) return false;
@@ -352,7 +293,7 @@ bool BasicWater<T>::Advance(double dt_frame_s) {
   stats_.substep_s = dt_;
   const double start_s = time_s_;
   time_s_ += dt_frame_s;
-  PushPenSample(pending_present_, pending_tip_);
+  pen_path_.Push(time_s_, pending_present_, pending_tip_);
 
   if (at_rest_ && !wake_pending_) {
     std::array<double, 3> tip;

@@ -33,6 +33,7 @@
 #include "sim/height_field.h"
 #include "sim/obstacle.h"
 #include "sim/obstacle_cover.h"
+#include "sim/pen_path.h"
 #include "sim/transform.h"
 
 namespace ripple::sim {
@@ -178,11 +179,6 @@ class BasicWater {
   double HeightAtPoint(double x_m, double y_m) const;
 
  private:
-  struct PenSample {
-    double time_s = 0;
-    bool present = false;
-    std::array<double, 3> tip = {0, 0, 0};
-  };
   // An obstacle and the cells it covers now.
   struct ObstacleState : ObstacleCover {
     Obstacle obstacle;
@@ -195,8 +191,6 @@ class BasicWater {
   // Applies the treatment to cells in the region whose water state flipped;
   // true if any did.
   bool UpdateMaskRegion(int i0, int i1, int j0, int j1);
-  void PushPenSample(bool present, const std::array<double, 3>& tip);
-  bool PenAt(double time_s, std::array<double, 3>* tip) const;
   // The pen at time_s is inside the grid and below the local surface.
   bool PenTouches(double time_s, std::array<double, 3>* tip) const;
   // Applies the pen's Gaussian for the sub-step at time_s (if it touches)
@@ -231,8 +225,7 @@ class BasicWater {
   std::vector<T> pen_gx_, pen_gy_;  // separable Gaussian scratch
   std::vector<ObstacleState> obstacles_;
 
-  std::array<PenSample, 8> pen_history_{};  // oldest first
-  int pen_count_ = 0;
+  PenPath pen_path_;
   bool pending_present_ = false;
   std::array<double, 3> pending_tip_ = {0, 0, 0};
   double time_s_ = 0;  // frame clock (sum of dt_frame minus dropped time)

@@ -385,7 +385,7 @@ bool SpectralWater::Advance(double dt_frame_s) {
   if (at_rest_ && !wake_pending_) {
     PenState probe;
     if (!PenStateAt(start_s, dt, &probe) && !PenStateAt(time_s_, dt, &probe)) {
-      accumulator_s_ = std::fmod(accumulator_s_ + dt_frame_s, dt);
+      clock_.Idle(dt_frame_s, dt);
       stats_.at_rest = true;
       stats_.counter = counter_;
       return true;
@@ -395,12 +395,11 @@ bool SpectralWater::Advance(double dt_frame_s) {
   at_rest_ = false;
   wake_pending_ = false;
 
-  accumulator_s_ += dt_frame_s;
-  const double due = std::floor(accumulator_s_ / dt + 1e-7);
-  const int n = static_cast<int>(std::min<double>(due, o.max_substeps));
-  stats_.dropped_s = (due - n) * dt;
-  accumulator_s_ = std::max(0.0, accumulator_s_ - due * dt);
-  const double end_s = time_s_ - accumulator_s_;
+  const SubstepClock::Due due =
+      clock_.Advance(dt_frame_s, time_s_, dt, o.max_substeps);
+  const int n = due.substeps;
+  stats_.dropped_s = due.dropped_s;
+  const double end_s = due.end_s;
   const bool boundary = BoundaryActive();
   const int every = BoundaryEverySteps();
   bool touched = false;
@@ -512,7 +511,7 @@ void SpectralWater::Reset() {
   pen_ = PenState();
   pen_volume_m3_ = 0;
   water_volume_m3_ = 0;
-  accumulator_s_ = 0;
+  clock_ = SubstepClock();
   steps_since_boundary_ = 0;
   at_rest_ = true;
   wake_pending_ = false;

@@ -50,6 +50,7 @@
 #include "sim/cosine_transform.h"
 #include "sim/obstacle_cover.h"
 #include "sim/pen_path.h"
+#include "sim/substep_clock.h"
 #include "sim/water_surface.h"
 
 namespace ripple::sim {
@@ -177,7 +178,8 @@ class SpectralWater final : public WaterSurface {
   std::array<double, 3> pending_tip_ = {0, 0, 0};
   PenState pen_;
   double pen_volume_m3_ = 0;
-  double time_s_ = 0, accumulator_s_ = 0;
+  double time_s_ = 0;
+  SubstepClock clock_;
   int steps_since_boundary_ = 0;
   // Target of WaterVolume() for the boundary step's volume correction.
   double water_volume_m3_ = 0;

@@ -301,7 +301,7 @@ bool BasicWater<T>::Advance(double dt_frame_s) {
       // Nothing to do: the surface is flat and nobody touches it. The
       // accumulator keeps its phase so that sub-step times stay on the same
       // absolute grid whatever the frame rate.
-      accumulator_s_ = std::fmod(accumulator_s_ + dt_frame_s, dt_);
+      clock_.Idle(dt_frame_s, dt_);
       stats_.at_rest = true;
       stats_.counter = counter_;
       return true;
@@ -311,12 +311,11 @@ bool BasicWater<T>::Advance(double dt_frame_s) {
   at_rest_ = false;
   wake_pending_ = false;
 
-  accumulator_s_ += dt_frame_s;
-  const double due = std::floor(accumulator_s_ / dt_ + 1e-7);
-  const int n = static_cast<int>(std::min<double>(due, options_.max_substeps));
-  stats_.dropped_s = (due - n) * dt_;
-  accumulator_s_ = std::max(0.0, accumulator_s_ - due * dt_);
-  const double end_s = time_s_ - accumulator_s_;
+  const SubstepClock::Due due =
+      clock_.Advance(dt_frame_s, time_s_, dt_, options_.max_substeps);
+  const int n = due.substeps;
+  stats_.dropped_s = due.dropped_s;
+  const double end_s = due.end_s;
   bool touched = false;
   for (int s = 0; s < n; ++s) {
     const double mid_s = end_s - (n - s - 0.5) * dt_;
@@ -465,7 +464,7 @@ void BasicWater<T>::Reset() {
   SnapToRest();
   ++counter_;
   wake_pending_ = false;
-  accumulator_s_ = 0;
+  clock_ = SubstepClock();
 }
 
 template <typename T>

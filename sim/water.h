@@ -34,6 +34,7 @@
 #include "sim/obstacle.h"
 #include "sim/obstacle_cover.h"
 #include "sim/pen_path.h"
+#include "sim/substep_clock.h"
 #include "sim/transform.h"
 
 namespace ripple::sim {
@@ -229,7 +230,7 @@ class BasicWater {
   bool pending_present_ = false;
   std::array<double, 3> pending_tip_ = {0, 0, 0};
   double time_s_ = 0;  // frame clock (sum of dt_frame minus dropped time)
-  double accumulator_s_ = 0;
+  SubstepClock clock_;
   double volume_debt_ = 0;  // rounding left over from the pen compensation
   // What sum(h) and sum(u) over the water should be in a conserving set-up.
   double target_volume_ = 0;

@@ -34,7 +34,8 @@ class HeightTexturePass {
   int nx_ = 0, ny_ = 0;                   // texels
   std::optional<std::uint64_t> counter_;  // nullopt: flat
   glm::vec2 extent_{1.0f};                // metres
-  std::vector<glm::vec4> slopes_;         // upload buffer: h, dh/dx, dh/dy
+  std::vector<glm::vec4> slopes_;         // h, dh/dx, dh/dy per texel
+  std::vector<std::uint16_t> halves_;     // the same as half floats (upload)
 };
 
 }  // namespace ripple::render::internal

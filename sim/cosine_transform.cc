@@ -126,9 +126,11 @@ void CosineTransform2D::Analyze(const float* samples,
 }
 
 void CosineTransform2D::AnalyzeSparse1D(int n, int first, const float* values,
-                                        int count, float* coefficients) {
+                                        int count, float* coefficients,
+                                        int num) {
+  if (num < 0 || num > n) num = n;
   // cos((a+1) t) = 2 cos(t) cos(a t) - cos((a-1) t): one cosine per sample.
-  std::vector<double> acc(n, 0.0);
+  std::vector<double> acc(num, 0.0);
   const double w = M_PI / n;
   for (int k = 0; k < count; ++k) {
     const double v = values[k];
@@ -136,14 +138,14 @@ void CosineTransform2D::AnalyzeSparse1D(int n, int first, const float* values,
     const double t = w * (first + k + 0.5);
     const double two_c = 2 * std::cos(t);
     double prev = std::cos(t), cur = 1.0;  // cos(-t), cos(0)
-    for (int a = 0; a < n; ++a) {
+    for (int a = 0; a < num; ++a) {
       acc[a] += v * cur;
       const double next = two_c * cur - prev;
       prev = cur;
       cur = next;
     }
   }
-  for (int a = 0; a < n; ++a)
+  for (int a = 0; a < num; ++a)
     coefficients[a] = static_cast<float>(acc[a] * (a == 0 ? 1.0 : 2.0) / n);
 }
 

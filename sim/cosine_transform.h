@@ -67,9 +67,10 @@ class CosineTransform2D {
 
   // The 1-D analysis of a sparse row: coefficients c[a], a < n, of the
   // samples v[k] at cells first..first+count-1 (others zero), such that
-  // sum_a c[a] * C_a(i, n) reproduces them. O(n * count).
+  // sum_a c[a] * C_a(i, n) reproduces them; only c[0, num) are computed
+  // (num <= n; -1: all n). O(num * count).
   static void AnalyzeSparse1D(int n, int first, const float* values, int count,
-                              float* coefficients);
+                              float* coefficients, int num = -1);
 
  private:
   int nx_, ny_;

@@ -259,8 +259,10 @@ void SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
   if (unit && sum > 0) {
     for (float& g : cell_scratch_) g = static_cast<float>(g / (sum * d));
   }
+  // Only the simulated band is read by the propagation.
+  const int band = n == grid_.nx ? band_nx_ : band_ny_;
   CosineTransform2D::AnalyzeSparse1D(n, i0, cell_scratch_.data(), i1 - i0 + 1,
-                                     out);
+                                     out, band);
 }
 
 bool SpectralWater::PenStateAt(double time_s, double dt_s,

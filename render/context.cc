@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include "geometry/check.h"
 #include "render/context_internal.h"
 #include "render/gl.h"
 
@@ -91,11 +92,8 @@ std::unique_ptr<Context> Context::Create(Backend backend, int width,
                                          int height) {
   std::string error;
   auto context = TryCreate(backend, width, height, &error);
-  if (context == nullptr) {
-    std::fprintf(stderr, "ripple render: %s context: %s\n",
-                 BackendName(backend), error.c_str());
-    std::abort();
-  }
+  RIPPLE_CHECK(context != nullptr,
+               std::string(BackendName(backend)) + " context: " + error);
   return context;
 }
 

@@ -1,6 +1,8 @@
 #include "render/gl_state.h"
 
-#include <cassert>
+#include <string>
+
+#include "geometry/check.h"
 
 namespace ripple::render::internal {
 namespace {
@@ -14,7 +16,8 @@ int GlStateGuard::Bit(GLenum cap) {
   for (int i = 0; i < static_cast<int>(sizeof(kCaps) / sizeof(kCaps[0])); ++i) {
     if (kCaps[i] == cap) return 1 << i;
   }
-  assert(false && "GlStateGuard: unsupported capability");
+  RIPPLE_CHECK(false,
+               "GlStateGuard: unsupported capability " + std::to_string(cap));
   return 0;
 }
 

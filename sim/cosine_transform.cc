@@ -2,14 +2,16 @@
 
 #include <fftw3.h>
 
-#include <cassert>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <map>
 #include <mutex>
+#include <string>
 #include <utility>
 #include <vector>
+
+#include "geometry/check.h"
 
 namespace ripple::sim {
 namespace {
@@ -47,7 +49,9 @@ PlanPair PlansFor(int nx, int ny) {
                                 FFTW_ESTIMATE);
   fftwf_free(a);
   fftwf_free(b);
-  assert(p.synth && p.analyze);
+  RIPPLE_CHECK(p.synth && p.analyze,
+               "FFTW could not plan a " + std::to_string(nx) + "x" +
+                   std::to_string(ny) + " cosine transform");
   (*cache)[{nx, ny}] = p;
   return p;
 }
@@ -77,7 +81,7 @@ void AlignedFloats::Fill(float v) {
 }
 
 CosineTransform2D::CosineTransform2D(int nx, int ny) : nx_(nx), ny_(ny) {
-  assert(nx >= 1 && ny >= 1);
+  RIPPLE_CHECK(nx >= 1 && ny >= 1, "cosine transform of an empty grid");
   const PlanPair p = PlansFor(nx, ny);
   synth_plan_ = p.synth;
   analyze_plan_ = p.analyze;

@@ -7,7 +7,8 @@
 //       x in [x0 + i*cell_m, x0 + (i+1)*cell_m), y likewise with y0, where
 //       x0 = -nx*cell_m/2, y0 = -ny*cell_m/2 (the grid is centred on the tank
 //       centre; ny*cell_m can differ from the tank's inner size_y by up to
-//       half a cell because cells are square).
+//       one cell because cells are square and sizes are chosen for fast
+//       transforms).
 //   - heights[j*nx + i] is the surface displacement in metres above the rest
 //     level at the cell CENTRE (x0 + (i+0.5)*cell_m, y0 + (j+0.5)*cell_m):
 //     the surface point is z = rest_level_m + heights[j*nx + i]. i runs along

@@ -2,6 +2,8 @@
 
 #include <fftw3.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -53,6 +55,35 @@ PlanPair PlansFor(int nx, int ny) {
                "FFTW could not plan a " + std::to_string(nx) + "x" +
                    std::to_string(ny) + " cosine transform");
   (*cache)[{nx, ny}] = p;
+  return p;
+}
+
+// Row-column plans for SynthesizeRows: x transforms of `rows` rows
+// (scratch -> samples) and in-place y transforms of every column.
+struct RowPlans {
+  fftwf_plan rows = nullptr;
+  fftwf_plan columns = nullptr;
+};
+
+RowPlans RowPlansFor(int nx, int ny, int rows) {
+  std::lock_guard<std::mutex> lock(PlannerMutex());
+  static std::map<std::array<int, 3>, RowPlans>* cache =
+      new std::map<std::array<int, 3>, RowPlans>();
+  auto it = cache->find({nx, ny, rows});
+  if (it != cache->end()) return it->second;
+  const std::size_t n = static_cast<std::size_t>(nx) * ny;
+  float* a = AllocFloats(n);
+  float* b = AllocFloats(n);
+  const fftwf_r2r_kind kind[1] = {FFTW_REDFT01};
+  RowPlans p;
+  p.rows = fftwf_plan_many_r2r(1, &nx, rows, a, nullptr, 1, nx, b, nullptr, 1,
+                               nx, kind, FFTW_ESTIMATE);
+  p.columns = fftwf_plan_many_r2r(1, &ny, nx, b, nullptr, nx, 1, b, nullptr, nx,
+                                  1, kind, FFTW_ESTIMATE);
+  fftwf_free(a);
+  fftwf_free(b);
+  RIPPLE_CHECK(p.rows && p.columns, "FFTW could not plan row transforms");
+  (*cache)[{nx, ny, rows}] = p;
   return p;
 }
 
@@ -109,6 +140,25 @@ void CosineTransform2D::Synthesize(const float* coefficients, float* samples,
   fftwf_execute_r2r(static_cast<fftwf_plan>(synth_plan_), scratch, samples);
 }
 
+void CosineTransform2D::SynthesizeRows(const float* coefficients, int rows,
+                                       float* samples, float* scratch) const {
+  rows = std::clamp(rows, 1, ny_);
+  if (rows == ny_) return Synthesize(coefficients, samples, scratch);
+  const std::size_t nx = nx_;
+  for (int b = 0; b < rows; ++b) {
+    const float* in = coefficients + b * nx;
+    float* out = scratch + b * nx;
+    const float row = b == 0 ? 1.0f : 0.5f;
+    out[0] = row * in[0];
+    const float rest = 0.5f * row;
+    for (std::size_t a = 1; a < nx; ++a) out[a] = rest * in[a];
+  }
+  const RowPlans p = RowPlansFor(nx_, ny_, rows);
+  fftwf_execute_r2r(p.rows, scratch, samples);
+  std::fill(samples + rows * nx, samples + ny_ * nx, 0.0f);
+  fftwf_execute_r2r(p.columns, samples, samples);
+}
+
 void CosineTransform2D::Analyze(const float* samples,
                                 float* coefficients) const {
   // REDFT10: X_a = 2 sum_i x_i cos(pi a (i+1/2)/n); our basis has
@@ -134,7 +184,8 @@ void CosineTransform2D::AnalyzeSparse1D(int n, int first, const float* values,
                                         int num) {
   if (num < 0 || num > n) num = n;
   // cos((a+1) t) = 2 cos(t) cos(a t) - cos((a-1) t): one cosine per sample.
-  std::vector<double> acc(num, 0.0);
+  thread_local std::vector<double> acc;
+  acc.assign(num, 0.0);
   const double w = M_PI / n;
   for (int k = 0; k < count; ++k) {
     const double v = values[k];

@@ -62,6 +62,11 @@ class CosineTransform2D {
   // buffer of nx*ny floats. in, out and scratch must not alias.
   void Synthesize(const float* coefficients, float* samples,
                   float* scratch) const;
+  // The same for coefficients that are zero in every row b >= rows: x
+  // transforms for those rows only, then the y transforms (~25% less work
+  // for a third of the rows). `samples` and `scratch` are overwritten.
+  void SynthesizeRows(const float* coefficients, int rows, float* samples,
+                      float* scratch) const;
   // Samples -> coefficients (the exact inverse of Synthesize).
   void Analyze(const float* samples, float* coefficients) const;
 

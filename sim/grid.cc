@@ -58,7 +58,7 @@ GridSpec GridSpec::ForTankFast(double size_x_m, double size_y_m,
       const int ny0 = static_cast<int>(std::round(size_y_m / cell));
       for (int ny : {ny0, ny0 - 1, ny0 + 1}) {
         if (ny < 2 || !FactorsInto2357(ny)) continue;
-        if (std::abs(ny * cell - size_y_m) > 0.5 * cell) continue;
+        if (std::abs(ny * cell - size_y_m) > cell) continue;
         GridSpec g;
         g.nx = nx;
         g.ny = ny;

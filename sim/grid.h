@@ -19,7 +19,7 @@ struct GridSpec {
                           int nx);
   // The smallest grid with at least nx_min cells along x whose sides both
   // factor into 2, 3, 5 and 7 (fast cosine transforms) and whose y extent is
-  // within half a cell of size_y; falls back to ForTank(nx_min) when no such
+  // within one cell of size_y; falls back to ForTank(nx_min) when no such
   // grid exists below 2*nx_min.
   static GridSpec ForTankFast(double size_x_m, double size_y_m,
                               double rest_level_m, int nx_min);

@@ -236,8 +236,8 @@ bool SpectralWater::SetPenTip(const std::array<double, 3>& tip_in_tank) {
 
 // --------------------------------------------------------------------- pen
 
-void SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
-                                       bool unit, float* out) {
+double SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
+                                         float* out) {
   const double d = grid_.cell_m;
   const double c = centre_m / d + 0.5 * n - 0.5;  // fractional cell index
   const double reach = kCutoffSigmas * sigma_m / d;
@@ -246,7 +246,7 @@ void SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
   cell_scratch_.clear();
   if (i0 > i1) {
     std::fill(out, out + n, 0.0f);
-    return;
+    return 0.0;
   }
   const double inv2s2 = 1.0 / (2 * sigma_m * sigma_m);
   double sum = 0;
@@ -256,13 +256,12 @@ void SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
     cell_scratch_.push_back(static_cast<float>(g));
     sum += g;
   }
-  if (unit && sum > 0) {
-    for (float& g : cell_scratch_) g = static_cast<float>(g / (sum * d));
-  }
+  for (float& g : cell_scratch_) g = static_cast<float>(g / (sum * d));
   // Only the simulated band is read by the propagation.
   const int band = n == grid_.nx ? band_nx_ : band_ny_;
   CosineTransform2D::AnalyzeSparse1D(n, i0, cell_scratch_.data(), i1 - i0 + 1,
                                      out, band);
+  return sum * d;
 }
 
 bool SpectralWater::PenStateAt(double time_s, double dt_s,
@@ -325,33 +324,42 @@ void SpectralWater::StepModes(const PenState& next) {
   Sources s;
   const double sigma = std::max(0.5 * o.pen_radius_m, 0.5 * grid_.cell_m);
   if (o.pen == PenModel::kDisplace) {
-    if (next.volume_m3 != pen_.volume_m3) {
-      // The volume the shaft gained (or gave back) enters the surface where
-      // the shaft is: each unit kernel sums to 1/d over its cells, so
-      // dV * kx * ky adds exactly dV (h summed times d^2).
-      KernelCoefficients(next.x_m, grid_.nx, sigma, true, kx_.data());
-      KernelCoefficients(next.y_m, grid_.ny, sigma, true, ky_.data());
+    // One unit-volume kernel serves both sources: each axis' coefficients
+    // sum to 1/d over its cells, so dV * kx * ky adds exactly dV (h summed
+    // times d^2), and times the returned scales it is the peak-1 Gaussian
+    // the pressure acts through.
+    const bool volume = next.volume_m3 != pen_.volume_m3;
+    const bool pressure = next.pressure > 0;
+    double scale_x = 0, scale_y = 0;
+    if (volume || pressure) {
+      scale_x = KernelCoefficients(next.x_m, grid_.nx, sigma, kx_.data());
+      scale_y = KernelCoefficients(next.y_m, grid_.ny, sigma, ky_.data());
+    }
+    if (volume) {
+      // The volume the shaft gained (or gave back) enters where it is.
       s.ax = kx_.data();
       s.by = ky_.data();
       s.vol = static_cast<float>(next.volume_m3 - pen_.volume_m3);
     }
-    if (next.pressure > 0) {
+    if (pressure) {
       // Surface pressure p/rho accelerates mode k by -k tanh(kH) p_k/rho.
-      KernelCoefficients(next.x_m, grid_.nx, sigma, false, px_.data());
-      KernelCoefficients(next.y_m, grid_.ny, sigma, false, py_.data());
-      s.pa = px_.data();
-      s.pb = py_.data();
+      s.pa = kx_.data();
+      s.pb = ky_.data();
       s.w = pressure_weight_.data();
-      s.acc = static_cast<float>(-next.pressure * o.substep_s);
+      s.acc =
+          static_cast<float>(-next.pressure * o.substep_s * scale_x * scale_y);
     }
   } else if (next.push) {
     const double push_sigma =
         std::max(0.2 * o.pen_radius_m, 0.5 * grid_.cell_m);
-    KernelCoefficients(next.x_m, grid_.nx, push_sigma, false, px_.data());
-    KernelCoefficients(next.y_m, grid_.ny, push_sigma, false, py_.data());
+    const double scale_x =
+        KernelCoefficients(next.x_m, grid_.nx, push_sigma, px_.data());
+    const double scale_y =
+        KernelCoefficients(next.y_m, grid_.ny, push_sigma, py_.data());
     s.pa = px_.data();
     s.pb = py_.data();
-    s.acc = static_cast<float>(-o.pen_strength_m_per_s2 * o.substep_s);
+    s.acc = static_cast<float>(-o.pen_strength_m_per_s2 * o.substep_s *
+                               scale_x * scale_y);
   }
   PropagateModes(band_nx_, band_ny_, grid_.nx, X_.data(), Y_.data(),
                  m11_.data(), m12_.data(), m21_.data(), m22_.data(), s);
@@ -433,7 +441,7 @@ bool SpectralWater::Advance(double dt_frame_s) {
 }
 
 void SpectralWater::Synthesize() {
-  transform_.Synthesize(X_.data(), h_.data(), scratch_.data());
+  transform_.SynthesizeRows(X_.data(), band_ny_, h_.data(), scratch_.data());
   // Obstacle cells are drawn at the mean level.
   if (!obstacle_cells_.empty()) {
     const float mean = X_[0];
@@ -611,8 +619,8 @@ HeightFieldView SpectralWater::CoarseView() const {
       std::copy(X_.data() + static_cast<std::size_t>(b) * grid_.nx,
                 X_.data() + static_cast<std::size_t>(b) * grid_.nx + band_nx_,
                 coarse_x_.data() + static_cast<std::size_t>(b) * cx);
-    coarse_transform_->Synthesize(coarse_x_.data(), coarse_h_.data(),
-                                  coarse_scratch_.data());
+    coarse_transform_->SynthesizeRows(coarse_x_.data(), band_ny_,
+                                      coarse_h_.data(), coarse_scratch_.data());
     coarse_counter_ = counter_;
   }
   HeightFieldView v;

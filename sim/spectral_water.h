@@ -122,11 +122,11 @@ class SpectralWater final : public WaterSurface {
   // The pen at time t (sub-step end): fills `state`, true when it differs
   // from the current one (a source acts).
   bool PenStateAt(double time_s, double dt_s, PenState* state) const;
-  // 1-D cosine coefficients of a Gaussian (standard deviation sigma_m)
-  // centred at centre_m along an axis of n cells; `unit`: scaled to sum to
-  // 1/cell over the cells (a unit-volume kernel once both axes multiply).
-  void KernelCoefficients(double centre_m, int n, double sigma_m, bool unit,
-                          float* out);
+  // 1-D cosine coefficients (the band's) of a unit Gaussian kernel of
+  // standard deviation sigma_m centred at centre_m along an axis of n
+  // cells: its samples sum to 1/cell. Returns the factor (sum of the
+  // peak-1 samples times the cell) that turns it into the peak-1 Gaussian.
+  double KernelCoefficients(double centre_m, int n, double sigma_m, float* out);
   void StepModes(const PenState& next);
   void ImposeBoundaries();
   // Zeroes the modes outside the simulated band (after an analysis).

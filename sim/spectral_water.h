@@ -9,18 +9,20 @@
 // dt multiplies each pair by the exact 2x2 propagator of its own
 // oscillator, so every wavelength runs at its own phase speed and dies at its
 // own rate, for any dt (unconditionally stable, no numerical dispersion).
-// Heights are synthesised once per changed frame (one FFT-based cosine
-// transform).
+// Only modes longer than shortest_wavelength_m are simulated; heights are
+// synthesised once per changed frame (FFTW cosine transforms over the band's
+// rows).
 //
 // Why modal rather than iWave's convolution kernel (Tessendorf 2004): at a
 // 0.63 mm cell the shortest capillary waves have omega ~ 3000 rad/s, so an
 // explicit step needs dt < 0.7 ms (~50 sub-steps of a 13x13 kernel per
 // frame); the modal propagator has no step limit and costs one transform per
 // frame. Its price is that obstacles and absorbing walls are not modes of
-// the tank: they are imposed in the cell domain every boundary_step_s
-// (two transforms each way): the surface inside an obstacle is held at the
-// mean level (iWave's obstruction; waves reflect from it), a sponge band
-// along the walls relaxes waves away, and the volume they move is restored.
+// the tank: they are imposed every boundary_step_s. The surface inside an
+// obstacle is held at the mean level (iWave's obstruction; waves reflect
+// from it), evaluated and corrected on the band's modes over the obstacles'
+// bounding box only (sim/band_box.h); a sponge band along the walls relaxes
+// waves away (full transforms); the volume they move is restored.
 // Obstacles thinner than the depth let some long-wave motion through: the
 // model has no flow beneath the surface to block.
 //

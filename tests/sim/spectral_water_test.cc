@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <random>
 #include <vector>
 
 #include "sim/cosine_transform.h"
@@ -512,6 +513,62 @@ TEST(SpectralWaterTest, HoneyIsStableAndOverDamped) {
     last_energy = water->stats().energy;
   }
   EXPECT_LT(water->stats().max_deviation_m, 0.5 * first_dev);
+}
+
+// The stress ranges of the paper scheme's stability tests, on this model:
+// random grids, radii from below a cell to beyond the tank, viscosities from
+// none to honey, frame times 0 to 10 s, obstacles covering nothing to
+// everything, both walls and both pens: never a NaN or an infinity.
+TEST(SpectralWaterTest, RandomStressNeverProducesNanOrInf) {
+  std::mt19937 rng(7);
+  auto log_uniform = [&](double lo, double hi) {
+    std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
+    return std::exp(u(rng));
+  };
+  for (int trial = 0; trial < 40; ++trial) {
+    const int nx = 2 + static_cast<int>(log_uniform(1, 200));
+    const int ny = 2 + static_cast<int>(log_uniform(1, 150));
+    const GridSpec g = Grid(nx, ny, 0.17 / nx);
+    WaterModelOptions o;
+    o.spectral.physics.kinematic_viscosity_m2_per_s =
+        trial % 5 == 0 ? 0.0 : log_uniform(1e-7, 1e-2);
+    o.spectral.pen_radius_m = log_uniform(1e-5, 1.0);
+    o.spectral.pen_pressure_coefficient = log_uniform(1e-3, 100);
+    o.spectral.pen_strength_m_per_s2 = log_uniform(1e-6, 1e9);
+    o.spectral.pen =
+        trial % 3 == 0 ? PenModel::kPaperPush : PenModel::kDisplace;
+    o.spectral.walls = trial % 2 ? WallMode::kAbsorb : WallMode::kReflect;
+    o.spectral.shortest_wavelength_m = trial % 4 == 0 ? 1e-6 : 0.003;
+    auto water = Make(g, o);
+    ASSERT_TRUE(water);
+    const int cover = trial % 3;
+    if (cover > 0) {
+      Obstacle box;
+      box.shape = Obstacle::Shape::kBox;
+      box.box_size_m = cover == 2 ? std::array<double, 3>{1, 1, 1}
+                                  : std::array<double, 3>{0.02, 0.01, 0.1};
+      std::string error;
+      ASSERT_GE(water->AddObstacle(box, &error), 0) << error;
+    }
+    std::uniform_real_distribution<double> u(-0.1, 0.1);
+    for (int f = 0; f < 30; ++f) {
+      if (f % 7 == 6)
+        water->ClearPen();
+      else
+        water->SetPenTip({u(rng), u(rng), 0.025 + u(rng) * 0.2});
+      const double dt = f % 10 == 9 ? log_uniform(1e-6, 10.0) : 1.0 / 30;
+      ASSERT_TRUE(water->Advance(dt));
+      const HeightFieldView v = water->View();
+      for (int c = 0; c < nx * ny; ++c)
+        ASSERT_TRUE(std::isfinite(v.heights[c]))
+            << "trial " << trial << " frame " << f;
+      const AdvanceStats& s = water->stats();
+      for (double x :
+           {s.volume_m3, s.energy, s.max_abs_height_m, s.max_speed_m_per_s})
+        ASSERT_TRUE(std::isfinite(x))
+            << "trial " << trial << ": " << s.BriefReport();
+    }
+  }
 }
 
 TEST(SpectralWaterTest, RejectsBadInput) {

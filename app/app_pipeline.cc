@@ -130,8 +130,10 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   // Interaction and water.
   const bench::Stopwatch sim_watch;
   if (tr.tip_in_tank && tr.pen.status == tracking::TrackStatus::kTracked) {
-    water_->SetPenTip(
-        {tr.tip_in_tank->x(), tr.tip_in_tank->y(), tr.tip_in_tank->z()});
+    // A non-finite tip is refused: the pen counts as not seen.
+    if (!water_->SetPenTip(
+            {tr.tip_in_tank->x(), tr.tip_in_tank->y(), tr.tip_in_tank->z()}))
+      water_->ClearPen();
   } else {
     water_->ClearPen();
   }

@@ -109,8 +109,11 @@ bool ResolveWaterOptions(const WaterArgs& args, sim::WaterModelOptions* options,
     if (set(args.viscosity_m2_per_s))
       s.physics.kinematic_viscosity_m2_per_s = args.viscosity_m2_per_s.value;
     if (set(args.radius_m)) s.pen_radius_m = args.radius_m.value;
-    if (set(args.force_m_per_s2))
+    if (set(args.force_m_per_s2)) {
+      if (s.pen != sim::PenModel::kPaperPush)
+        return fail("--force is the paper push's (--pen paper)");
       s.pen_strength_m_per_s2 = args.force_m_per_s2.value;
+    }
     if (!s.IsValid(&why)) return fail("water options: " + why);
   }
   const int n = args.cells == 0 ? DefaultWaterCells(*waves) : args.cells;

@@ -448,7 +448,8 @@ CommandAction SetupSim(CLI::App* sub) {
       ->allow_extra_args(false);
   sub->add_option("--depth", args->depth_m,
                   "Tip depth below the rest level during strokes, metres")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(-1.0, 1.0));
   sub->add_option("--impulse", args->impulses,
                   "Drop X,Y,T,AMP,RADIUS: a Gaussian displacement AMP "
                   "(metres, std RADIUS) released from rest at time T; "

@@ -30,8 +30,8 @@ struct PlanPair {
   fftwf_plan analyze = nullptr;
 };
 
-// One pair of plans per size for the life of the process: the planner's
-// measurements cost far more than the transforms.
+// One pair of plans per size for the life of the process, shared by every
+// transform of that size.
 PlanPair PlansFor(int nx, int ny) {
   std::lock_guard<std::mutex> lock(PlannerMutex());
   static std::map<std::pair<int, int>, PlanPair>* cache =

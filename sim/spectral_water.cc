@@ -217,8 +217,17 @@ bool SpectralWater::SetOptions(const WaterModelOptions& options,
     return false;
   }
   if (!options.IsValid(error)) return false;
+  if (options.spectral.pen != options_.spectral.pen && pen_.volume_m3 > 0) {
+    // Leaving the displacement model: the shaft's volume leaves the mean
+    // level with it, so the water keeps its own volume.
+    X_[0] -=
+        static_cast<float>(pen_.volume_m3 / (n_ * grid_.cell_m * grid_.cell_m));
+    pen_ = PenState();
+    pen_volume_m3_ = 0;
+  }
   options_ = options;
   BuildPropagator();
+  ClearOutOfBand();  // modes the band no longer holds
   ChooseCoarseGrid();
   RebuildMask();  // the obstacle box follows the band
   stats_.substep_s = options_.spectral.substep_s;
@@ -228,7 +237,10 @@ bool SpectralWater::SetOptions(const WaterModelOptions& options,
 
 bool SpectralWater::SetPenTip(const std::array<double, 3>& tip_in_tank) {
   for (double v : tip_in_tank)
-    if (!Finite(v)) return false;
+    if (!Finite(v)) {
+      pending_present_ = false;  // an unusable pose: the pen is not seen
+      return false;
+    }
   pending_present_ = true;
   pending_tip_ = tip_in_tank;
   return true;
@@ -304,8 +316,10 @@ bool SpectralWater::PenStateAt(double time_s, double dt_s,
     // puts on the surface.
     std::array<double, 3> before;
     if (depth > 0 && path_.At(time_s - dt_s, &before)) {
+      // Capped like the volume, so a tracking jump does not splash.
       const double u =
-          std::hypot(tip[0] - before[0], tip[1] - before[1]) / dt_s;
+          std::min(std::hypot(tip[0] - before[0], tip[1] - before[1]) / dt_s,
+                   o.pen_max_speed_m_per_s);
       const double wet = std::min(1.0, depth / (2 * r + 1e-12));
       state->pressure = o.pen_pressure_coefficient * 0.5 * u * u * wet;
     }
@@ -361,9 +375,15 @@ void SpectralWater::StepModes(const PenState& next) {
     s.acc = static_cast<float>(-o.pen_strength_m_per_s2 * o.substep_s *
                                scale_x * scale_y);
   }
+  const float x0 = X_[0], y0 = Y_[0];
   PropagateModes(band_nx_, band_ny_, grid_.nx, X_.data(), Y_.data(),
                  m11_.data(), m12_.data(), m21_.data(), m22_.data(), s);
-  if (s.pa && !s.w) Y_[0] = 0;  // the push's uniform compensation
+  if (s.pa && !s.w) {
+    // The push's uniform compensation: its mean (the volume mode) is not
+    // applied, so the mean level moves only as it did without the push.
+    X_[0] = x0 + m12_[0] * y0;
+    Y_[0] = y0;
+  }
   pen_ = next;
   pen_volume_m3_ = pen_.volume_m3;
 }
@@ -376,6 +396,12 @@ void SpectralWater::ClearOutOfBand() {
     const std::size_t from = b < band_ny_ ? band_nx_ : 0;
     std::fill(x + from, x + nx, 0.0f);
     std::fill(y + from, y + nx, 0.0f);
+    // Inside the band's box, the corners beyond k_band (held at zero by a
+    // zero propagator).
+    for (std::size_t a = 0; a < from; ++a) {
+      const std::size_t i = b * nx + a;
+      if (i != 0 && m11_[i] == 0 && m12_[i] == 0) x[a] = y[a] = 0.0f;
+    }
   }
 }
 
@@ -472,8 +498,11 @@ void SpectralWater::ComputeStats() {
   } else {
     stats_.max_deviation_m = 0;
   }
-  // Energy per unit density (Parseval over the cosine basis: a mode's mean
-  // square over the cells is 1, 1/2 or 1/4) and a bound on max|dh/dt|.
+  // A modal energy norm (Parseval over the cosine basis, a mode's mean
+  // square over the cells being 1, 1/2 or 1/4): d^2/2 * sum(X'^2 +
+  // omega^2 X^2); it falls exactly as the modes decay but is not the
+  // physical energy (that weights each mode by 1/(k tanh kH)). The speed is
+  // a bound on max|dh/dt|: the sum of |X'|.
   double energy = 0, speed = 0;
   const int nx = grid_.nx;
   for (int b = 0; b < band_ny_; ++b) {
@@ -553,8 +582,10 @@ bool SpectralWater::SetState(const std::vector<float>& heights_m,
   double vol = 0;
   for (std::size_t c = 0; c < n_; ++c)
     if (water_[c]) vol += heights_m[c];
-  water_volume_m3_ = vol * grid_.cell_m * grid_.cell_m - pen_volume_m3_;
+  (void)vol;
   Synthesize();
+  // The target is the band-limited state's own volume.
+  water_volume_m3_ = WaterVolume();
   ++counter_;
   at_rest_ = false;
   wake_pending_ = true;
@@ -573,8 +604,9 @@ bool SpectralWater::AddHeights(const std::vector<float>& dh_m) {
   transform_.Analyze(scratch_.data(), v_.data());
   for (std::size_t c = 0; c < n_; ++c) X_[c] += v_[c];
   ClearOutOfBand();
-  water_volume_m3_ += vol * grid_.cell_m * grid_.cell_m;
+  (void)vol;
   Synthesize();
+  water_volume_m3_ = WaterVolume();
   ++counter_;
   at_rest_ = false;
   wake_pending_ = true;

@@ -84,6 +84,9 @@ class SpectralWater final : public WaterSurface {
                 const std::vector<float>* velocities_m_per_s) override;
   bool AddHeights(const std::vector<float>& dh_m) override;
   HeightFieldView View() const override;
+  // Synthesised lazily into buffers the object owns (single owner, like
+  // every other call); its cells inside obstacles carry the band's surface
+  // rather than the mean level (the obstacles hide them).
   HeightFieldView CoarseView() const override;
   double HeightAtPoint(double x_m, double y_m) const override;
   std::uint64_t counter() const override { return counter_; }

@@ -267,6 +267,19 @@ TEST(SpectralWaterTest, VolumeIsConservedWithPenAndObstacles) {
   EXPECT_LT(worst / tank_volume, 1e-6);
 }
 
+TEST(SpectralWaterTest, PaperPushKeepsTheVolume) {
+  const GridSpec g = Grid(96, 64, 0.17 / 96);
+  WaterModelOptions o = Options();
+  o.spectral.pen = PenModel::kPaperPush;
+  auto water = Make(g, o);
+  for (int f = 0; f < 200; ++f) {
+    water->SetPenTip({0.03 * std::sin(0.1 * f), 0.01, 0.02});
+    water->Advance(1.0 / 30);
+  }
+  EXPECT_GT(water->stats().max_deviation_m, 1e-5);  // it pushed
+  EXPECT_NEAR(water->ModeAmplitude(0, 0), 0.0, 1e-12);
+}
+
 TEST(SpectralWaterTest, SlowDipRaisesTheLevelByTheDisplacedVolume) {
   const GridSpec g = GridSpec::ForTankFast(0.17, 0.11, 0.025, 96);
   WaterModelOptions o = Options(1e-4);  // damp the sloshing

@@ -142,6 +142,10 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   have_time_ = true;
   water_->Advance(dt);
   report.water = water_->stats();
+  // The caustics' coarse view is synthesised here (when the surface
+  // changed), so its cost counts as the water's.
+  const sim::HeightFieldView coarse =
+      options_.effects.caustics ? water_->CoarseView() : sim::HeightFieldView();
   report.times.sim = sim_watch.ElapsedMs();
 
   // Render.
@@ -156,16 +160,12 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     scene_.water.cell_size = static_cast<float>(view.cell_m);
     scene_.water.change_counter = view.counter;
     // Synthesised only when the caustics are drawn and the surface changed.
-    scene_.caustics_water = {};
-    if (options_.effects.caustics) {
-      const sim::HeightFieldView coarse = water_->CoarseView();
-      if (coarse.heights != view.heights) {
-        scene_.caustics_water.heights = coarse.heights;
-        scene_.caustics_water.nx = coarse.nx;
-        scene_.caustics_water.ny = coarse.ny;
-        scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
-        scene_.caustics_water.change_counter = coarse.counter;
-      }
+    if (coarse.heights != nullptr && coarse.heights != view.heights) {
+      scene_.caustics_water.heights = coarse.heights;
+      scene_.caustics_water.nx = coarse.nx;
+      scene_.caustics_water.ny = coarse.ny;
+      scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
+      scene_.caustics_water.change_counter = coarse.counter;
     }
     scene_.pen_visible = tr.pen.has_pose() && rig_.pen.has_value();
     if (scene_.pen_visible)

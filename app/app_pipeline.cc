@@ -159,7 +159,7 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     scene_.water.ny = view.ny;
     scene_.water.cell_size = static_cast<float>(view.cell_m);
     scene_.water.change_counter = view.counter;
-    // Synthesised only when the caustics are drawn and the surface changed.
+    scene_.caustics_water = {};
     if (coarse.heights != nullptr && coarse.heights != view.heights) {
       scene_.caustics_water.heights = coarse.heights;
       scene_.caustics_water.nx = coarse.nx;

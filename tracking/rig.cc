@@ -2,10 +2,13 @@
 
 #include <cmath>
 #include <fstream>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <opencv2/core/persistence.hpp>
 #include <set>
 #include <sstream>
+
+#include "tracking/tag_family.h"
 
 namespace ripple::tracking {
 namespace {
@@ -228,9 +231,18 @@ bool Rig::IsValid(std::string* error) const {
     return fail("tank.wall_height: must be positive");
   if (!(tank.water_level_m > 0 && tank.water_level_m <= tank.wall_height_m))
     return fail("tank.water_level: must be in (0, wall_height]");
+  // Ids the family can draw and decode: a larger one is no tag at all.
+  const std::unique_ptr<TagFamily> tag_family = TagFamily::Create(family);
+  const int num_codes = tag_family ? tag_family->num_codes() : 0;
+  auto beyond = [&](const char* where, int id) {
+    return fail(std::string(where) + ": tag id " + std::to_string(id) +
+                " is beyond " + family + " (ids 0 to " +
+                std::to_string(num_codes - 1) + ")");
+  };
   std::set<int> ids;
   for (const TagPlacement& t : tank_tags) {
     if (!(t.edge_m > 0)) return fail("tank.tags: edge must be positive");
+    if (t.id >= num_codes) return beyond("tank.tags", t.id);
     if (!ids.insert(t.id).second)
       return fail("tank.tags: duplicate tag id " + std::to_string(t.id));
   }
@@ -243,6 +255,7 @@ bool Rig::IsValid(std::string* error) const {
       return fail("pen.shaft_length: must be positive");
     for (const TagPlacement& t : pen->faces) {
       if (!(t.edge_m > 0)) return fail("pen.faces: edge must be positive");
+      if (t.id >= num_codes) return beyond("pen.faces", t.id);
       if (t.edge_m > pen->cube_edge_m + 1e-9)
         return fail("pen.faces: tag " + std::to_string(t.id) +
                     " is larger than the cube face");

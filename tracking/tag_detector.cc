@@ -246,11 +246,15 @@ std::vector<TagDetection> TagDetector::Detect(
   std::vector<cv::Rect> regions;
   const cv::Rect whole(0, 0, gray->cols, gray->rows);
   if (rois.empty()) {
-    regions.push_back(whole);
+    // libapriltag's quad search reads past the edges of images smaller than
+    // a few pixels (it crashed on 1x1 and 4x3); no tag fits in them anyway.
+    if (whole.width >= kMinImageSide && whole.height >= kMinImageSide)
+      regions.push_back(whole);
   } else {
     for (const cv::Rect& r : rois) {
       const cv::Rect c = r & whole;
-      if (c.width >= 8 && c.height >= 8) regions.push_back(c);
+      if (c.width >= kMinImageSide && c.height >= kMinImageSide)
+        regions.push_back(c);
     }
   }
   std::map<int, TagDetection> by_id;

@@ -81,6 +81,10 @@ class TagDetector {
   TagDetector(TagDetector&&) noexcept;
   TagDetector& operator=(TagDetector&&) noexcept;
 
+  // Images and regions narrower or lower than this (pixels) are not
+  // searched: no tag fits, and libapriltag reads past their edges.
+  static constexpr int kMinImageSide = 8;
+
   // Detects tags in an 8-bit image (CV_8UC1, or CV_8UC3 BGR which is
   // converted). With `rois` non-empty only those rectangles (clipped to the
   // image) are searched, without copying pixels; a tag must lie wholly inside

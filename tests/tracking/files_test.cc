@@ -262,6 +262,11 @@ TEST(RigFileTest, BadFilesNameFileAndField) {
       {"shape", "shape: cylinder", "shape: sphere", "obstacles[0].shape"},
       {"frame", "frame: tank", "frame: tag:99", "tag:99"},
       {"truncated", "pen:", "pen: [ {", "rig file"},
+      // Ids the family cannot draw or decode (tag36h11 has 587).
+      {"tank_id_beyond", "{ id: 5, edge", "{ id: 100000, edge",
+       "tag id 100000 is beyond tag36h11 (ids 0 to 586)"},
+      {"pen_id_beyond", "{ id: 12, edge", "{ id: 587, edge",
+       "pen.faces: tag id 587 is beyond"},
   };
   for (const BadCase& c : cases) {
     const std::string path =

@@ -34,6 +34,17 @@ std::array<Eigen::Vector2d, 4> TrueCorners(const Camera& camera,
   return testing::ProjectCorners(camera, p, tag.cam_from_tag);
 }
 
+TEST(TagDetectorTest, TinyImagesFindNothingAndDoNotCrash) {
+  // libapriltag's quad search read past the edges of 1x1 and 4x3 frames.
+  TagDetector detector{TagDetectorOptions()};
+  for (const cv::Size size : {cv::Size(1, 1), cv::Size(4, 3), cv::Size(7, 40),
+                              cv::Size(40, 7), cv::Size(8, 8)}) {
+    const cv::Mat image(size, CV_8UC1, cv::Scalar(128));
+    EXPECT_TRUE(detector.Detect(image).empty()) << size;
+    EXPECT_TRUE(detector.Detect(image, {cv::Rect(0, 0, 3, 3)}).empty()) << size;
+  }
+}
+
 TEST(TagDetectorTest, FindsIdsWithCornersInTagImageOrder) {
   const Camera camera = TestCamera();
   auto family = TagFamily::Create("tag36h11");

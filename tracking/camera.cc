@@ -24,7 +24,10 @@ std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
       const cv::FileNode n = fs[key];
       if (n.empty() || !(n.isInt() || n.isReal())) return false;
       const double v = static_cast<double>(n);
-      if (v != std::floor(v)) return false;
+      // Finite and in int range before the conversion (.inf or 1e300 would
+      // overflow it).
+      if (!std::isfinite(v) || v != std::floor(v) || std::abs(v) > 1e9)
+        return false;
       *out = static_cast<int>(v);
       return true;
     };
@@ -32,6 +35,13 @@ std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
       return fail("field 'image_width' missing or not an integer");
     if (!read_int("image_height", &c.height))
       return fail("field 'image_height' missing or not an integer");
+    // Every frame of this size is allocated whole (and several times, by
+    // the renderer and the synthetic camera): refuse sizes no webcam has
+    // before anything tries.
+    if (c.width > kMaxImageSide || c.height > kMaxImageSide)
+      return fail("image size " + std::to_string(c.width) + "x" +
+                  std::to_string(c.height) + " exceeds " +
+                  std::to_string(kMaxImageSide) + " pixels per side");
     cv::Mat k, d;
     fs["camera_matrix"] >> k;
     if (k.empty() || k.rows != 3 || k.cols != 3)

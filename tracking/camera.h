@@ -16,8 +16,12 @@ namespace ripple::tracking {
 using Camera = geometry::CameraModel;
 using geometry::MakeIdealCamera;
 
+// Largest image side a camera file may state, pixels.
+inline constexpr int kMaxImageSide = 16384;
+
 // Reads an OpenCV calibration YAML. Returns nullopt and fills `error` with a
-// message naming the file and the field on any problem.
+// message naming the file and the field on any problem (sizes above
+// kMaxImageSide included).
 std::optional<Camera> LoadCamera(const std::string& path, std::string* error);
 // Writes an OpenCV calibration YAML; false (with `error`) if not writable.
 bool SaveCamera(const Camera& camera, const std::string& path,

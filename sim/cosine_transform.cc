@@ -124,26 +124,10 @@ AlignedFloats CosineTransform2D::NewBuffer() const {
   return AlignedFloats(static_cast<std::size_t>(nx_) * ny_);
 }
 
-void CosineTransform2D::Synthesize(const float* coefficients, float* samples,
-                                   float* scratch) const {
+void CosineTransform2D::HalveForRedft01(const float* coefficients, int rows,
+                                        float* scratch) const {
   // REDFT01: y_i = x_0 + 2 sum_{a>0} x_a cos(pi a (i+1/2)/n), so the a > 0
   // (and b > 0) coefficients are halved first.
-  const std::size_t nx = nx_;
-  for (int b = 0; b < ny_; ++b) {
-    const float* in = coefficients + b * nx;
-    float* out = scratch + b * nx;
-    const float row = b == 0 ? 1.0f : 0.5f;
-    out[0] = row * in[0];
-    const float rest = 0.5f * row;
-    for (std::size_t a = 1; a < nx; ++a) out[a] = rest * in[a];
-  }
-  fftwf_execute_r2r(static_cast<fftwf_plan>(synth_plan_), scratch, samples);
-}
-
-void CosineTransform2D::SynthesizeRows(const float* coefficients, int rows,
-                                       float* samples, float* scratch) const {
-  rows = std::clamp(rows, 1, ny_);
-  if (rows == ny_) return Synthesize(coefficients, samples, scratch);
   const std::size_t nx = nx_;
   for (int b = 0; b < rows; ++b) {
     const float* in = coefficients + b * nx;
@@ -153,6 +137,20 @@ void CosineTransform2D::SynthesizeRows(const float* coefficients, int rows,
     const float rest = 0.5f * row;
     for (std::size_t a = 1; a < nx; ++a) out[a] = rest * in[a];
   }
+}
+
+void CosineTransform2D::Synthesize(const float* coefficients, float* samples,
+                                   float* scratch) const {
+  HalveForRedft01(coefficients, ny_, scratch);
+  fftwf_execute_r2r(static_cast<fftwf_plan>(synth_plan_), scratch, samples);
+}
+
+void CosineTransform2D::SynthesizeRows(const float* coefficients, int rows,
+                                       float* samples, float* scratch) const {
+  rows = std::clamp(rows, 1, ny_);
+  if (rows == ny_) return Synthesize(coefficients, samples, scratch);
+  HalveForRedft01(coefficients, rows, scratch);
+  const std::size_t nx = nx_;
   const RowPlans p = RowPlansFor(nx_, ny_, rows);
   fftwf_execute_r2r(p.rows, scratch, samples);
   std::fill(samples + rows * nx, samples + ny_ * nx, 0.0f);

@@ -78,6 +78,11 @@ class CosineTransform2D {
                               float* coefficients, int num = -1);
 
  private:
+  // Rows [0, rows) of the coefficients into scratch, scaled to FFTW's
+  // REDFT01 convention.
+  void HalveForRedft01(const float* coefficients, int rows,
+                       float* scratch) const;
+
   int nx_, ny_;
   void* synth_plan_ = nullptr;  // fftwf_plan
   void* analyze_plan_ = nullptr;

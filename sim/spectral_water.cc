@@ -248,8 +248,8 @@ bool SpectralWater::SetPenTip(const std::array<double, 3>& tip_in_tank) {
 
 // --------------------------------------------------------------------- pen
 
-double SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
-                                         float* out) {
+double SpectralWater::KernelCoefficients(double centre_m, int n, int band,
+                                         double sigma_m, float* out) {
   const double d = grid_.cell_m;
   const double c = centre_m / d + 0.5 * n - 0.5;  // fractional cell index
   const double reach = kCutoffSigmas * sigma_m / d;
@@ -270,7 +270,6 @@ double SpectralWater::KernelCoefficients(double centre_m, int n, double sigma_m,
   }
   for (float& g : cell_scratch_) g = static_cast<float>(g / (sum * d));
   // Only the simulated band is read by the propagation.
-  const int band = n == grid_.nx ? band_nx_ : band_ny_;
   CosineTransform2D::AnalyzeSparse1D(n, i0, cell_scratch_.data(), i1 - i0 + 1,
                                      out, band);
   return sum * d;
@@ -346,8 +345,10 @@ void SpectralWater::StepModes(const PenState& next) {
     const bool pressure = next.pressure > 0;
     double scale_x = 0, scale_y = 0;
     if (volume || pressure) {
-      scale_x = KernelCoefficients(next.x_m, grid_.nx, sigma, kx_.data());
-      scale_y = KernelCoefficients(next.y_m, grid_.ny, sigma, ky_.data());
+      scale_x =
+          KernelCoefficients(next.x_m, grid_.nx, band_nx_, sigma, kx_.data());
+      scale_y =
+          KernelCoefficients(next.y_m, grid_.ny, band_ny_, sigma, ky_.data());
     }
     if (volume) {
       // The volume the shaft gained (or gave back) enters where it is.
@@ -366,10 +367,10 @@ void SpectralWater::StepModes(const PenState& next) {
   } else if (next.push) {
     const double push_sigma =
         std::max(0.2 * o.pen_radius_m, 0.5 * grid_.cell_m);
-    const double scale_x =
-        KernelCoefficients(next.x_m, grid_.nx, push_sigma, px_.data());
-    const double scale_y =
-        KernelCoefficients(next.y_m, grid_.ny, push_sigma, py_.data());
+    const double scale_x = KernelCoefficients(next.x_m, grid_.nx, band_nx_,
+                                              push_sigma, px_.data());
+    const double scale_y = KernelCoefficients(next.y_m, grid_.ny, band_ny_,
+                                              push_sigma, py_.data());
     s.pa = px_.data();
     s.pb = py_.data();
     s.acc = static_cast<float>(-o.pen_strength_m_per_s2 * o.substep_s *
@@ -578,38 +579,28 @@ bool SpectralWater::SetState(const std::vector<float>& heights_m,
     v_.Fill(0.0f);
   transform_.Analyze(h_.data(), X_.data());
   transform_.Analyze(v_.data(), Y_.data());
+  StateReplaced();
+  return true;
+}
+
+void SpectralWater::StateReplaced() {
   ClearOutOfBand();
-  double vol = 0;
-  for (std::size_t c = 0; c < n_; ++c)
-    if (water_[c]) vol += heights_m[c];
-  (void)vol;
   Synthesize();
-  // The target is the band-limited state's own volume.
+  // The volume target is the band-limited state's own volume.
   water_volume_m3_ = WaterVolume();
   ++counter_;
   at_rest_ = false;
   wake_pending_ = true;
-  return true;
 }
 
 bool SpectralWater::AddHeights(const std::vector<float>& dh_m) {
   if (dh_m.size() != n_) return false;
   for (float v : dh_m)
     if (!std::isfinite(v)) return false;
-  double vol = 0;
-  for (std::size_t c = 0; c < n_; ++c) {
-    scratch_[c] = water_[c] ? dh_m[c] : 0.0f;
-    vol += scratch_[c];
-  }
+  for (std::size_t c = 0; c < n_; ++c) scratch_[c] = water_[c] ? dh_m[c] : 0.0f;
   transform_.Analyze(scratch_.data(), v_.data());
   for (std::size_t c = 0; c < n_; ++c) X_[c] += v_[c];
-  ClearOutOfBand();
-  (void)vol;
-  Synthesize();
-  water_volume_m3_ = WaterVolume();
-  ++counter_;
-  at_rest_ = false;
-  wake_pending_ = true;
+  StateReplaced();
   return true;
 }
 

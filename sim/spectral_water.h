@@ -129,11 +129,15 @@ class SpectralWater final : public WaterSurface {
   bool PenStateAt(double time_s, double dt_s, PenState* state) const;
   // 1-D cosine coefficients (the band's) of a unit Gaussian kernel of
   // standard deviation sigma_m centred at centre_m along an axis of n
-  // cells: its samples sum to 1/cell. Returns the factor (sum of the
-  // peak-1 samples times the cell) that turns it into the peak-1 Gaussian.
-  double KernelCoefficients(double centre_m, int n, double sigma_m, float* out);
+  // cells: its samples sum to 1/cell; only the first `band` coefficients
+  // are computed. Returns the factor (sum of the peak-1 samples times the
+  // cell) that turns it into the peak-1 Gaussian.
+  double KernelCoefficients(double centre_m, int n, int band, double sigma_m,
+                            float* out);
   void StepModes(const PenState& next);
   void ImposeBoundaries();
+  // After X_/Y_ were replaced: band, heights, volume target, wake.
+  void StateReplaced();
   // Zeroes the modes outside the simulated band (after an analysis).
   void ClearOutOfBand();
   void RebuildMask();

@@ -61,8 +61,11 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   k.cx = camera.cx;
   k.cy = camera.cy;
   k.dist = camera.dist;
+  k.transfer = camera.transfer;
+  render::RendererOptions renderer_options = options.renderer;
+  renderer_options.video_transfer = camera.transfer;
   p->renderer_ = render::Renderer::TryCreate(p->context_.get(), k,
-                                             options.renderer, error);
+                                             renderer_options, error);
   if (!p->renderer_) return nullptr;
 
   render::SceneInputs& s = p->scene_;

@@ -45,6 +45,8 @@ int RunDemo(DemoArgs args) {
     return Fail(kExitBadInput, "--gl glfw: the demo is headless (egl, osmesa)");
   const PipelineOptions& options = args.pipeline.options;
   const render::Backend* backend = &options.backend;
+  // The frames come from the synthetic renderer: linear 8-bit values.
+  camera->transfer = geometry::Transfer::kLinear;
   auto pipeline = Pipeline::Create(*camera, *rig, options, &error);
   if (!pipeline) return Fail(kExitRuntime, error);
 

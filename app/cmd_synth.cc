@@ -40,6 +40,9 @@ int RunSynth(const SynthArgs& args) {
     return Fail(kExitBadInput, error);
   if (!MakeDirectories(args.out + "/frames", &error))
     return Fail(kExitBadInput, error);
+  // The synthetic renderer writes 8-bit values linear in radiance; the
+  // camera file says so, and replay honours it.
+  camera->transfer = geometry::Transfer::kLinear;
   if (!tracking::SaveCamera(*camera, args.out + "/camera.yml", &error) ||
       !tracking::SaveRig(*rig, args.out + "/rig.yml", &error))
     return Fail(kExitBadInput, error);

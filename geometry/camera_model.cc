@@ -5,6 +5,21 @@
 
 namespace ripple::geometry {
 
+bool ParseTransfer(const std::string& name, Transfer* transfer) {
+  if (name == "srgb") {
+    *transfer = Transfer::kSrgb;
+  } else if (name == "linear") {
+    *transfer = Transfer::kLinear;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* TransferName(Transfer transfer) {
+  return transfer == Transfer::kSrgb ? "srgb" : "linear";
+}
+
 Eigen::Vector2d CameraModel::ProjectWithJacobian(
     const Eigen::Vector3d& p, Eigen::Matrix<double, 2, 3>* j) const {
   const double iz = 1.0 / p.z();

@@ -17,12 +17,23 @@
 
 namespace ripple::geometry {
 
+// How a camera's 8-bit values encode light.
+enum class Transfer {
+  kSrgb,    // IEC 61966-2-1, what webcams deliver
+  kLinear,  // proportional to radiance (`ripple synth` writes these)
+};
+// "srgb" / "linear"; false for anything else.
+bool ParseTransfer(const std::string& name, Transfer* transfer);
+const char* TransferName(Transfer transfer);
+
 struct CameraModel {
   int width = 0;                          // pixels
   int height = 0;                         // pixels
   double fx = 0, fy = 0, cx = 0, cy = 0;  // pixels
   // OpenCV order: k1 k2 p1 p2 k3 k4 k5 k6 (rational model when k4..k6 != 0).
   std::array<double, 8> dist{};
+  // Photometric, not geometric: the renderer decodes the video with it.
+  Transfer transfer = Transfer::kSrgb;
 
   bool HasDistortion() const;
   // Checks sizes, focal lengths and finiteness; `error` (may be null) names
@@ -66,7 +77,7 @@ struct CameraModel {
 
   bool operator==(const CameraModel& o) const {
     return width == o.width && height == o.height && fx == o.fx && fy == o.fy &&
-           cx == o.cx && cy == o.cy && dist == o.dist;
+           cx == o.cx && cy == o.cy && dist == o.dist && transfer == o.transfer;
   }
   bool operator!=(const CameraModel& o) const { return !(*this == o); }
 };

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <numeric>
 #include <thread>
 
 #include "render/caustics_kernels.h"
@@ -273,6 +274,20 @@ bool CausticsOptions::IsValid(std::string* error) const {
   return true;
 }
 
+namespace {
+
+void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
+              const glm::dvec3& l, std::vector<float>* map,
+              CausticsSummary* summary) {
+  if (!o.light_through_walls) return;
+  const double flux = caustics_internal::AddWallLight(
+      tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
+      map->data());
+  if (summary) summary->flux_walls = flux;
+}
+
+}  // namespace
+
 bool ComputeCaustics(const CausticsOptions& options,
                      const HeightFieldView& water, const TankGeometry& tank,
                      const glm::dvec3& light_in_tank, std::vector<float>* map,
@@ -291,13 +306,18 @@ bool ComputeCaustics(const CausticsOptions& options,
   }
   if (water.heights == nullptr || water.nx <= 0 || water.ny <= 0 ||
       !(water.cell_size > 0)) {
-    // Flat water: the map is relative to flat water, so it reads 1
-    // everywhere, and all the light entering the tank's surface lands.
-    std::fill(map->begin(), map->end(), 1.0f);
+    // Flat water: the map reads 1 wherever the refracted light lands.
+    const glm::dvec3 ld = glm::normalize(light_in_tank);
+    caustics_internal::FlatSurfaceMap(tank, ld, options.ior, mx, my,
+                                      map->data());
     if (summary) {
-      summary->flux_in = static_cast<double>(tank.size_x) * tank.size_y * l.z;
-      summary->flux_deposited = summary->flux_in;
+      summary->flux_in = static_cast<double>(tank.size_x) * tank.size_y * ld.z;
+      summary->flux_deposited = std::accumulate(map->begin(), map->end(), 0.0) *
+                                ld.z * (static_cast<double>(tank.size_x) / mx) *
+                                (tank.size_y / my);
+      summary->flux_outside = summary->flux_in - summary->flux_deposited;
     }
+    AddWalls(options, tank, ld, map, summary);
     return true;
   }
   const bool simd = options.simd;
@@ -432,6 +452,7 @@ bool ComputeCaustics(const CausticsOptions& options,
     summary->flux_deposited = in_map;
     summary->flux_outside += in_buffer - in_map;  // in the margin
   }
+  AddWalls(options, tank, glm::normalize(light_in_tank), map, summary);
   return true;
 }
 

@@ -22,6 +22,10 @@
 // matter.
 #pragma GCC diagnostic ignored "-Wpsabi"
 
+#include <glm/glm.hpp>
+
+#include "render/scene.h"
+
 namespace ripple::render::caustics_internal {
 
 constexpr int kLanes = 8;
@@ -143,6 +147,19 @@ void EdgesRows(bool simd, const Ctx& c, AccumBuffer* buf, int j0, int j1);
 // (see ResolveImpl).
 void Resolve(bool simd, AccumBuffer* buf, int y_first, int y_last, float* col_c,
              float* col_q, float* out);
+
+// Flat water's map: the fraction of each texel inside the tank's surface
+// rectangle shifted by the refracted light (1 inside the lit area, 0 in the
+// strip along the walls facing the light). `l` unit, towards the light.
+void FlatSurfaceMap(const TankGeometry& tank, const glm::dvec3& l, double ior,
+                    int mx, int my, float* map);
+
+// Adds the relative irradiance of the light entering through the side walls
+// below the rest level (caustics_walls.cc; CausticsOptions). Returns the
+// flux added, in CausticsSummary's units.
+double AddWallLight(const TankGeometry& tank, const glm::dvec3& l, double ior,
+                    double glass_ior, double attenuation_per_m, int mx, int my,
+                    float* map);
 
 }  // namespace ripple::render::caustics_internal
 

@@ -6,15 +6,19 @@
 
 namespace ripple::render::internal {
 
-FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k) {
+FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k,
+                          const WaterOptics& optics, Transfer transfer) {
   FrameState f;
   f.scene = &scene;
   f.k = &k;
+  f.optics = &optics;
+  f.srgb_output = transfer == Transfer::kSrgb;
   f.clip_from_tank = ClipFromCam(k) * scene.cam_from_tank;
   f.tank_from_cam = glm::inverse(scene.cam_from_tank);
   f.cam_in_tank = f.tank_from_cam[3];
   f.light = glm::normalize(scene.light_in_tank);
-  glm::dvec3 lr = glm::refract(-f.light, glm::dvec3(0, 0, 1), 1.0 / 1.33);
+  glm::dvec3 lr =
+      glm::refract(-f.light, glm::dvec3(0, 0, 1), 1.0 / double(optics.ior));
   if (lr.z > -1e-3) lr = glm::dvec3(0, 0, -1);
   f.light_refracted = lr;
   return f;
@@ -36,6 +40,9 @@ void CommonUniforms::Resolve(const Program& p) {
   shadow_on_ = p.Uniform("u_shadow_on");
   shadow_texel_ = p.Uniform("u_shadow_texel");
   shadow_bias_ = p.Uniform("u_shadow_bias");
+  srgb_out_ = p.Uniform("u_srgb_out");
+  knee_ = p.Uniform("u_knee");
+  ambient_ = p.Uniform("u_ambient");
   glUseProgram(p.id());
   const struct {
     const char* name;
@@ -68,6 +75,9 @@ void CommonUniforms::Set(const Program& p, const FrameState& f,
   glUniform1f(shadow_on_, scene.effects.shadows ? 1.f : 0.f);
   glUniform2f(shadow_texel_, f.shadow.texel.x, f.shadow.texel.y);
   glUniform1f(shadow_bias_, f.shadow.bias);
+  glUniform1f(srgb_out_, f.srgb_output ? 1.f : 0.f);
+  glUniform1f(knee_, f.optics->highlight_knee);
+  glUniform1f(ambient_, f.optics->ambient_share);
 }
 
 void SetUniform(GLint location, const glm::dmat4& m) {

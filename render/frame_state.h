@@ -10,6 +10,7 @@
 #include "render/camera.h"
 #include "render/gl.h"
 #include "render/gl_objects.h"
+#include "render/optics.h"
 #include "render/scene.h"
 
 namespace ripple::render::internal {
@@ -52,9 +53,15 @@ struct FrameState {
   glm::dvec3 light_refracted{0.0, 0.0, -1.0};  // under a flat surface
   HeightFieldInfo height;
   ShadowTransform shadow;
+  const WaterOptics* optics = nullptr;
+  WaterShading shading;  // for this light and depth
+  bool srgb_output = true;
 };
 
-FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k);
+// `optics` must outlive the frame; `shading` is left for the caller, which
+// caches it (ComputeWaterShading integrates over the sky).
+FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k,
+                          const WaterOptics& optics, Transfer transfer);
 
 // The uniforms of common.glsl in one program.
 class CommonUniforms {
@@ -73,7 +80,7 @@ class CommonUniforms {
         intr_ = -1, image_size_ = -1, cam_in_tank_ = -1, tank_ = -1,
         hf_extent_ = -1, hf_texel_ = -1, light_ = -1, light_refracted_ = -1,
         shadow_from_tank_ = -1, shadow_on_ = -1, shadow_texel_ = -1,
-        shadow_bias_ = -1;
+        shadow_bias_ = -1, srgb_out_ = -1, knee_ = -1, ambient_ = -1;
 };
 
 // glUniform wrappers for glm types (location -1 is ignored, as by GL).

@@ -134,7 +134,7 @@ void SolidMeshes::Create() {
 
 void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
                        const glm::dmat4& clip_from_tank, bool obstacles,
-                       bool pen, const TankWallsMesh* walls) const {
+                       bool pen) const {
   auto draw = [&](const Mesh& mesh, const glm::dmat4& tank_from_model) {
     SetUniform(p.tank_from_model, tank_from_model);
     SetUniform(p.clip_from_model, clip_from_tank * tank_from_model);
@@ -163,12 +163,6 @@ void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
     draw(cylinder_,
          glm::scale(shaft, {double(g.shaft_radius), double(g.shaft_radius),
                             double(g.shaft_length)}));
-  }
-  if (walls != nullptr) {
-    SetUniform(p.tank_from_model, glm::dmat4(1.0));
-    SetUniform(p.clip_from_model, clip_from_tank);
-    glBindVertexArray(walls->vao());
-    glDrawArrays(GL_TRIANGLES, 0, 24);
   }
   glBindVertexArray(0);
 }

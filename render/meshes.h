@@ -44,12 +44,10 @@ class TankWallsMesh {
 class SolidMeshes {
  public:
   void Create();
-  // Draws the scene's obstacles and/or the pen (cube and shaft) and/or the
-  // walls with the bound program `p` (solid.vert) projected by
-  // `clip_from_tank`.
+  // Draws the scene's obstacles and/or the pen (cube and shaft) with the
+  // bound program `p` (solid.vert) projected by `clip_from_tank`.
   void Draw(const SceneInputs& scene, const ModelUniforms& p,
-            const glm::dmat4& clip_from_tank, bool obstacles, bool pen,
-            const TankWallsMesh* walls) const;
+            const glm::dmat4& clip_from_tank, bool obstacles, bool pen) const;
 
  private:
   Mesh box_, cylinder_;

@@ -36,6 +36,8 @@ bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
   co.map_nx = co.map_ny = options_.map_size;
   co.threads = options_.threads;
   co.attenuation_per_m = options_.attenuation_per_m;
+  co.ior = options_.ior;
+  co.glass_ior = options_.glass_ior;
   const HeightFieldView& surface = scene.caustics_water.heights != nullptr
                                        ? scene.caustics_water
                                        : scene.water;

@@ -34,6 +34,8 @@ class CausticsPass {
     // Mean absorption of the water (1/m): light loses it on its way down
     // (Nishita's attenuation along the refracted path).
     double attenuation_per_m = 0.0;
+    double ior = 1.333;      // water
+    double glass_ior = 1.5;  // walls (light through them, CausticsOptions)
   };
   void Create(const Options& options);
 

@@ -8,6 +8,7 @@
 namespace ripple::render::internal {
 
 bool ObstaclesPass::Create(const Options& options, std::string* error) {
+  srgb_ = options.srgb;
   if (!BuildProgram(&solid_[0], "solid", "solid.vert", "solid.frag", "",
                     error) ||
       !BuildProgram(&solid_[1], "shadowed solid", "solid.vert", "solid.frag",
@@ -25,8 +26,10 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
 }
 
 bool ObstaclesPass::AllocateOutput(int width, int height) {
-  AllocTexture(&scene_copy_tex_, GL_RGBA8, width, height, GL_RGBA,
-               GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
+  // Blits into it copy the encoded values (GL_FRAMEBUFFER_SRGB stays off);
+  // the water's fetches decode them.
+  AllocTexture(&scene_copy_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, width,
+               height, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
   return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
 }
 
@@ -39,7 +42,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   if (!scene.obstacles.empty()) {
     const int i = scene.effects.shadows ? 1 : 0;
     solid_common_[i].Set(solid_[i], f, f.clip_from_tank);
-    solids.Draw(scene, solid_model_[i], f.clip_from_tank, true, false, nullptr);
+    solids.Draw(scene, solid_model_[i], f.clip_from_tank, true, false);
   }
   // The water only looks up points inside the tank, so only the tank's
   // window rectangle (floor to the wall tops, or to the rest level + 1 cm if
@@ -63,7 +66,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   if (scene.pen_visible && scene.effects.pen_occludes) {
     state.ColorMask(false);
     glUseProgram(depth_.id());
-    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, nullptr);
+    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true);
   }
 }
 

@@ -19,7 +19,9 @@ namespace ripple::render::internal {
 class ObstaclesPass {
  public:
   struct Options {
-    glm::vec3 albedo{0.78f, 0.74f, 0.68f};  // linear RGB
+    glm::vec3 albedo{0.62f, 0.56f, 0.48f};  // linear RGB
+    // The output is sRGB-encoded: the refraction copy decodes it on fetch.
+    bool srgb = true;
   };
   bool Create(const Options& options, std::string* error);
   // (Re)allocates the refraction copy at the output's size.
@@ -38,6 +40,7 @@ class ObstaclesPass {
   Program depth_;
   ModelUniforms depth_model_;
   Texture scene_copy_tex_;
+  bool srgb_ = true;
   Framebuffer scene_copy_fbo_;
 };
 

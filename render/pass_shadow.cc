@@ -146,8 +146,7 @@ bool ShadowPass::NeedsRedraw(const SceneInputs& scene) const {
                                 options_.turn_threshold_rad);
 }
 
-void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids,
-                      const TankWallsMesh& walls) {
+void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids) {
   const SceneInputs& scene = *f.scene;
   transform_ = FitShadowFrustum(scene.tank, f.light);
   const glm::dmat4 clip_from_shadow =
@@ -164,8 +163,7 @@ void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids,
     glPolygonOffset(1.5f, 2.0f);
     glUseProgram(depth_.id());
     solids.Draw(scene, depth_model_,
-                clip_from_shadow * transform_.shadow_from_tank, true, true,
-                scene.effects.walls ? &walls : nullptr);
+                clip_from_shadow * transform_.shadow_from_tank, true, true);
   }
 
   // What the water sees of it: floor and surface shadow over the tank.

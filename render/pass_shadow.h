@@ -1,7 +1,7 @@
 // Shadow pass (internal to render/): a depth map of the occluders (obstacles,
-// pen, walls) seen from the directional light, fitted to the tank, and the
-// receiver map the water samples instead of a PCF kernel per pixel: r = light
-// reaching the floor, g = light reaching the surface at rest.
+// pen; the glass walls transmit) seen from the directional light, fitted to the
+// tank, and the receiver map the water samples instead of a PCF kernel per
+// pixel: r = light reaching the floor, g = light reaching the surface at rest.
 //
 // Redraw key (ShadowKey): the tank geometry, the light direction, whether
 // the pen is visible, its geometry and pose, and each obstacle's shape, size
@@ -56,8 +56,7 @@ class ShadowPass {
   bool NeedsRedraw(const SceneInputs& scene) const;
   // Redraws the maps for `f` (f.height must be this frame's) and records
   // the key.
-  void Draw(const FrameState& f, const SolidMeshes& solids,
-            const TankWallsMesh& walls);
+  void Draw(const FrameState& f, const SolidMeshes& solids);
 
   const ShadowTransform& transform() const { return transform_; }
   GLuint shadow_texture() const { return shadow_tex_.id(); }

@@ -14,8 +14,10 @@ bool WallsPass::Create(const Options& options, std::string* error) {
   }
   for (int i = 0; i < 2; ++i) {
     common_[i].Resolve(programs_[i]);  // leaves it bound
-    SetUniform(programs_[i].Uniform("u_sigma"), options.absorption_per_m);
-    SetUniform(programs_[i].Uniform("u_scatter"), options.deep_water_color);
+    SetUniform(programs_[i].Uniform("u_sigma"),
+               options.optics.absorption_per_m);
+    SetUniform(programs_[i].Uniform("u_scatter"), options.optics.scatter_color);
+    glUniform1f(programs_[i].Uniform("u_glass_ior"), options.optics.glass_ior);
   }
   return true;
 }

@@ -13,14 +13,14 @@
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
 #include "render/meshes.h"
+#include "render/optics.h"
 
 namespace ripple::render::internal {
 
 class WallsPass {
  public:
   struct Options {
-    glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
-    glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};  // linear RGB
+    WaterOptics optics;
   };
   bool Create(const Options& options, std::string* error);
   // Draws into the bound output, depth-tested against what is there.

@@ -16,10 +16,17 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   }
   const Program& p = s->program;
   s->common.Resolve(p);  // leaves p bound
-  glUniform1f(p.Uniform("u_ambient"), options.shadow_ambient);
   glUniform1f(p.Uniform("u_env_distance"), options.reflection_distance_m);
-  SetUniform(p.Uniform("u_sigma"), options.absorption_per_m);
-  SetUniform(p.Uniform("u_scatter"), options.deep_water_color);
+  glUniform1f(p.Uniform("u_ior"), options.optics.ior);
+  SetUniform(p.Uniform("u_sigma"), options.optics.absorption_per_m);
+  SetUniform(p.Uniform("u_scatter"), options.optics.scatter_color);
+  s->floor_sky = p.Uniform("u_floor_sky");
+  s->floor_sun = p.Uniform("u_floor_sun");
+  s->internal_reflectance = p.Uniform("u_internal_reflectance");
+  s->inv_n2 = p.Uniform("u_inv_n2");
+  s->glass_t = p.Uniform("u_glass_t");
+  s->glint_peak = p.Uniform("u_glint_peak");
+  s->inv_alpha2 = p.Uniform("u_inv_alpha2");
   return true;
 }
 
@@ -109,6 +116,14 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
   shading.common.Set(shading.program, f, f.clip_from_tank);
+  const WaterShading& w = f.shading;
+  SetUniform(shading.floor_sky, w.floor_sky);
+  SetUniform(shading.floor_sun, w.floor_sun);
+  glUniform1f(shading.internal_reflectance, w.internal_reflectance);
+  glUniform1f(shading.inv_n2, w.inv_n2);
+  glUniform1f(shading.glass_t, w.glass_transmittance);
+  glUniform1f(shading.glint_peak, w.glint_peak);
+  glUniform1f(shading.inv_alpha2, w.inv_alpha2);
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   state.StencilMask(0);

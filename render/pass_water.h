@@ -15,6 +15,7 @@
 
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
+#include "render/optics.h"
 
 namespace ripple::render::internal {
 
@@ -22,9 +23,7 @@ class WaterPass {
  public:
   struct Options {
     int surface_grid = 32;  // quads per side of the surface mesh
-    glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
-    glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};  // linear RGB
-    float shadow_ambient = 0.55f;  // floor brightness in full shadow
+    WaterOptics optics;
     float reflection_distance_m = 0.3f;
   };
   bool Create(const Options& options, std::string* error);
@@ -46,6 +45,9 @@ class WaterPass {
   struct Shading {
     Program program;
     CommonUniforms common;
+    // Per-frame optics (FrameState::shading).
+    GLint floor_sky = -1, floor_sun = -1, internal_reflectance = -1,
+          inv_n2 = -1, glass_t = -1, glint_peak = -1, inv_alpha2 = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

@@ -47,6 +47,7 @@ bool RendererOptions::IsValid(std::string* error) const {
   if (caustics_threads < 1) return fail("caustics_threads must be >= 1");
   if (shadow_move_threshold_m < 0 || shadow_turn_threshold_rad < 0)
     return fail("shadow thresholds must be >= 0");
+  if (!optics.IsValid(error)) return false;
   return true;
 }
 
@@ -69,6 +70,13 @@ struct Renderer::Impl {
   internal::PresentPass present;
   PassTimer timer;
 
+  // The water's optics for the scene's light and depth, recomputed only
+  // when they change (ComputeWaterShading integrates over the sky).
+  const WaterShading& Shading(const SceneInputs& scene);
+  glm::dvec3 shading_light{0.0};
+  double shading_depth = -1;
+  WaterShading shading;
+
   bool Init(std::string* error);
   bool AllocateOutput(std::string* error);
   void BindFrameTextures();
@@ -84,16 +92,17 @@ bool Renderer::Impl::Init(std::string* error) {
   internal::CausticsPass::Options caustics_options;
   caustics_options.map_size = o.caustics_map_size;
   caustics_options.threads = o.caustics_threads;
-  caustics_options.attenuation_per_m =
-      (o.absorption_per_m.x + o.absorption_per_m.y + o.absorption_per_m.z) /
-      3.0;
-  const internal::ObstaclesPass::Options obstacles_options{o.obstacle_albedo};
-  const internal::WaterPass::Options water_options{
-      o.surface_grid, o.absorption_per_m, o.deep_water_color, o.shadow_ambient,
-      o.reflection_distance_m};
-  const internal::WallsPass::Options walls_options{o.absorption_per_m,
-                                                   o.deep_water_color};
-  if (!video.Create(error) || !shadow.Create(shadow_options, error) ||
+  const glm::vec3& sigma = o.optics.absorption_per_m;
+  caustics_options.attenuation_per_m = (sigma.x + sigma.y + sigma.z) / 3.0;
+  caustics_options.ior = o.optics.ior;
+  caustics_options.glass_ior = o.optics.glass_ior;
+  const bool srgb = o.video_transfer == Transfer::kSrgb;
+  const internal::ObstaclesPass::Options obstacles_options{o.obstacle_albedo,
+                                                           srgb};
+  const internal::WaterPass::Options water_options{o.surface_grid, o.optics,
+                                                   o.reflection_distance_m};
+  const internal::WallsPass::Options walls_options{o.optics};
+  if (!video.Create(srgb, error) || !shadow.Create(shadow_options, error) ||
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
       !walls.Create(walls_options, error) || !present.Create(error)) {
@@ -111,6 +120,16 @@ bool Renderer::Impl::Init(std::string* error) {
     return false;
   }
   return true;
+}
+
+const WaterShading& Renderer::Impl::Shading(const SceneInputs& scene) {
+  if (scene.light_in_tank != shading_light ||
+      scene.tank.water_level != shading_depth) {
+    shading_light = scene.light_in_tank;
+    shading_depth = scene.tank.water_level;
+    shading = ComputeWaterShading(options.optics, shading_depth, shading_light);
+  }
+  return shading;
 }
 
 bool Renderer::Impl::AllocateOutput(std::string* error) {
@@ -190,7 +209,9 @@ bool Renderer::Render(const SceneInputs& scene) {
   const Effects& fx = scene.effects;
   const auto t_start = Clock::now();
   m.StartTimings();
-  internal::FrameState f = internal::MakeFrameState(scene, m.k);
+  internal::FrameState f = internal::MakeFrameState(
+      scene, m.k, m.options.optics, m.options.video_transfer);
+  f.shading = m.Shading(scene);
 
   // Inputs: video, height field, wall mesh (each only if it changed).
   m.video.Upload(scene.video, m.k);
@@ -202,7 +223,7 @@ bool Renderer::Render(const SceneInputs& scene) {
   // Effects maps, only when their keys changed.
   if (fx.shadows && m.shadow.NeedsRedraw(scene)) {
     m.timer.Begin(PassTimer::kShadow);
-    m.shadow.Draw(f, m.solids, m.walls_mesh);
+    m.shadow.Draw(f, m.solids);
     m.timings.shadow_ms = m.timer.End(PassTimer::kShadow);
     m.timings.shadow_redrawn = true;
   }

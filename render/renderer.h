@@ -39,6 +39,7 @@
 
 #include "render/camera.h"
 #include "render/context.h"
+#include "render/optics.h"
 #include "render/scene.h"
 
 namespace ripple::render {
@@ -54,12 +55,14 @@ struct RendererOptions {
   // tank by more than these since the last redraw, or the light changed.
   double shadow_move_threshold_m = 0.001;
   double shadow_turn_threshold_rad = 0.5 * 3.14159265358979 / 180.0;
-  // Optics of the water (per metre) and of the scene.
-  glm::vec3 absorption_per_m{28.0f, 9.0f, 6.0f};
-  glm::vec3 deep_water_color{0.08f, 0.30f, 0.38f};
-  float shadow_ambient = 0.55f;        // floor brightness in full shadow
+  // Optics of the water, the glass and the light (render/optics.h).
+  WaterOptics optics = WaterOptics::ForLook(WaterLook::kClear);
+  // How the video's 8-bit values encode light: the renderer decodes them
+  // to linear light, shades, and encodes its output the same way, so the
+  // pixels outside the water are the video's own.
+  Transfer video_transfer = Transfer::kSrgb;
   float reflection_distance_m = 0.3f;  // distance to the reflected scene
-  glm::vec3 obstacle_albedo{0.78f, 0.74f, 0.68f};
+  glm::vec3 obstacle_albedo{0.62f, 0.56f, 0.48f};  // linear RGB
 
   enum class Timing {
     kNone,        // only CPU-side timings (uploads, caustics)

@@ -66,6 +66,14 @@ std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
           " (got " +
           std::to_string(n) + ")");
     for (int i = 0; i < n; ++i) c.dist[i] = d.at<double>(i);
+    // Optional: how the 8-bit values encode light (default sRGB, as
+    // webcams deliver).
+    const cv::FileNode transfer = fs["transfer"];
+    if (!transfer.empty()) {
+      if (!transfer.isString() ||
+          !geometry::ParseTransfer(transfer.string(), &c.transfer))
+        return fail("field 'transfer' must be srgb or linear");
+    }
   } catch (const cv::Exception& e) {
     return fail(std::string("malformed YAML: ") + e.err);
   }
@@ -92,6 +100,7 @@ bool SaveCamera(const Camera& camera, const std::string& path,
     cv::Mat d(1, rational ? 8 : 5, CV_64F);
     for (int i = 0; i < d.cols; ++i) d.at<double>(i) = camera.dist[i];
     fs << "distortion_coefficients" << d;
+    fs << "transfer" << geometry::TransferName(camera.transfer);
     fs.release();
   } catch (const cv::Exception& e) {
     if (error) *error = "cannot write camera file '" + path + "': " + e.err;

@@ -21,6 +21,11 @@ uniform float u_shadow_on;
 uniform vec2 u_shadow_texel;    // PCF tap offset (texture units)
 uniform float u_shadow_bias;     // depth bias (texture depth units)
 uniform sampler2D u_caustics;    // relative floor irradiance (flat = 1)
+// Colour: shaders work in linear light (sRGB textures decode the video on
+// fetch) and encode what they write with EncodeOutput.
+uniform float u_srgb_out;        // 1: the output is sRGB-encoded, 0: linear
+uniform float u_knee;            // highlight shoulder's knee (linear)
+uniform float u_ambient;         // the sky's share of the board's light
 
 vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
 
@@ -60,3 +65,29 @@ float FloorShadow(vec3 f) {
   return min(Shadow(s), Shadow(f));
 }
 
+
+// Linear radiance -> the output's encoding: the highlight shoulder (identity
+// up to the knee, then a rational roll-off towards 1 with slope 1 at the
+// knee, so bright caustics and glints keep their order and shape; optics.h)
+// and the video's transfer (sRGB, IEC 61966-2-1, or linear).
+vec3 EncodeOutput(vec3 c) {
+  c = max(c, vec3(0.0));
+  float room = 1.0 - u_knee;
+  vec3 over = max(c - u_knee, vec3(0.0));
+  vec3 s = min(c, vec3(u_knee)) + room * over / (over + room);
+  vec3 e = mix(12.92 * s, 1.055 * pow(s, vec3(1.0 / 2.4)) - 0.055,
+               step(0.0031308, s));
+  return mix(s, e, u_srgb_out);
+}
+
+// Unpolarised Fresnel reflectance, exact (Fresnel's equations in the form
+// of Cook & Torrance 1982): light at cos_i onto an interface of relative
+// index eta = n_transmitted / n_incident. 1 under total internal reflection.
+float FresnelExact(float cos_i, float eta) {
+  float c = clamp(cos_i, 1e-4, 1.0);
+  float g2 = eta * eta - 1.0 + c * c;
+  float g = sqrt(max(g2, 0.0));
+  float a = (g - c) / (g + c);
+  float b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+  return mix(1.0, 0.5 * a * a * (1.0 + b * b), step(0.0, g2));
+}

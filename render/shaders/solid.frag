@@ -1,5 +1,5 @@
-// Virtual obstacles: diffuse, lit by the tank's light and (SHADOWS) its
-// shadow map. A variant rather than a branch: llvmpipe would run the PCF
+// Virtual obstacles: diffuse, lit by the sky and the tank's light and
+// (SHADOWS) its shadow map, in linear light, encoded on output. A variant rather than a branch: llvmpipe would run the PCF
 // taps even with shadows off.
 in vec3 v_p;
 in vec3 v_n;
@@ -11,5 +11,8 @@ void main() {
 #ifdef SHADOWS
   diffuse *= Shadow(v_p + n * 5e-4);
 #endif
-  o_color = vec4(u_albedo * (0.45 + 0.65 * diffuse), 1.0);
+  // The board's normalisation (optics.h): a horizontal, unshadowed surface
+  // reads its albedo; the direct share scales with n.l / cos(light).
+  float direct = (1.0 - u_ambient) * diffuse / max(u_light.z, 1e-3);
+  o_color = vec4(EncodeOutput(u_albedo * (u_ambient + direct)), 1.0);
 }

@@ -1,8 +1,11 @@
 // Water surface: per-fragment normal from the full-resolution height field,
-// refraction of the real floor in the video (brightened by caustics, darkened
-// by shadow, tinted by the path length through the water), Fresnel-weighted
-// reflection of a map folded from the video (after Ropinski et al.'s virtual
-// reflections), and a specular highlight of the light.
+// refraction of the real floor in the video, lit by the sky and the light
+// through the surface (caustics, shadow), the floor<->surface
+// inter-reflection and radiance's 1/n^2 on leaving the water, Beer-Lambert
+// absorption along the view path, exact Fresnel against a reflection map
+// folded from the video (after Ropinski et al.'s virtual reflections), and
+// glints of the light's disc. All in linear light (render/optics.h gives the
+// model and its constants); the result is encoded once, at the end.
 //
 // Deferred: the coarse mesh (water.vert + depth.frag) has already laid
 // depth and marked its pixels in the stencil; this shader runs once per
@@ -20,11 +23,17 @@ uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
 uniform sampler2D u_reflection;  // small blurred copy, mirrored wrap
 uniform sampler2D u_receiver;    // shadow on floor (r) and surface (g)
 uniform vec3 u_sigma;            // absorption per metre (r, g, b)
-uniform vec3 u_scatter;          // colour of deep water
-uniform float u_ambient;         // floor brightness in full shadow
+uniform vec3 u_scatter;          // colour of deep water (pool look; else 0)
 uniform float u_env_distance;    // metres to the virtual reflected scene
-
-const float kIor = 1.33;
+uniform float u_ior;             // water
+// Constants of the floor's light (optics.h, WaterShading).
+uniform vec3 u_floor_sky;        // sky through the flat surface to the floor
+uniform vec3 u_floor_sun;        // direct light through the flat surface
+uniform float u_internal_reflectance;
+uniform float u_inv_n2;
+uniform float u_glass_t;         // a glass wall seen from inside the water
+uniform float u_glint_peak;      // disc radiance per unit Fresnel
+uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 
 vec3 EnvLookup(vec3 p, vec3 r) {
   vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
@@ -55,7 +64,7 @@ void main() {
 
   // Refraction (Snell, air to water) to the floor or a wall.
 #ifdef REFRACTION
-  vec3 t = refract(v, n, 1.0 / kIor);
+  vec3 t = refract(v, n, 1.0 / u_ior);
 #else
   vec3 t = v;
 #endif
@@ -66,7 +75,7 @@ void main() {
   float tw = max(min(tx, ty), 0.0);
   float th = min(tf, tw);
   vec3 f = p + t * th;
-  vec3 base = textureLod(u_scene, VideoUv(f), 0.0).rgb;
+  vec3 video = textureLod(u_scene, VideoUv(f), 0.0).rgb;  // linear
   float lit = 1.0;
   vec2 floor_uv = f.xy / u_tank.xy + 0.5;
 #ifdef SHADOWS
@@ -75,37 +84,32 @@ void main() {
 #ifdef CAUSTICS
   lit *= textureLod(u_caustics, floor_uv, 0.0).r;
 #endif
-#if defined(SHADOWS) || defined(CAUSTICS)
-  if (tf <= tw) base *= u_ambient + (1.0 - u_ambient) * lit;
-#endif
+  // The floor under water, relative to the dry floor the video shows; a
+  // wall hit shows the video beyond the glass.
+  vec3 floor_light = u_floor_sky + u_floor_sun * lit;
+  vec3 under = video * floor_light * u_inv_n2 /
+               (1.0 - u_internal_reflectance * min(video, vec3(0.95)));
+  vec3 below = tf <= tw ? under : video * u_glass_t;
   vec3 transmit = exp(-u_sigma * th);
-  vec3 color = base * transmit + u_scatter * (1.0 - transmit);
+  vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 
   vec3 r = reflect(v, n);
+  float fresnel = FresnelExact(dot(-v, n), u_ior);
 #ifdef REFLECTION
-  float cos_v = max(dot(-v, n), 0.0);
-  float m = 1.0 - cos_v;
-  float m2 = m * m;
-  float fresnel = 0.02 + 0.98 * (m2 * m2 * m);  // Schlick
   color = mix(color, EnvLookup(p, r), fresnel);
+#else
+  color *= 1.0 - fresnel;
 #endif
 #ifdef SHADOWS
   float sun = textureLod(u_receiver, tank_uv, 0.0).g;
 #else
   float sun = 1.0;
 #endif
-  // x^300 = x^256 x^32 x^8 x^4 by squaring: llvmpipe's pow is a log2 and
-  // an exp2 polynomial each.
+  // Glints: the disc's radiance, spread as exp(-theta^2 / alpha^2) around
+  // the light with the disc's energy, theta^2 ~ 2 (1 - cos theta).
   float x = max(dot(r, u_light), 0.0);
-  float x4 = x * x;
-  x4 *= x4;
-  float x8 = x4 * x4;
-  float x32 = x8 * x8;
-  x32 *= x32;
-  float x256 = x32 * x32;
-  x256 *= x256;
-  x256 *= x256;
-  color += (x256 * x32 * x8 * x4) * 1.5 * sun;
-  o_color = vec4(color, 1.0);
+  color += (u_glint_peak * fresnel * sun) *
+           exp(-2.0 * u_inv_alpha2 * (1.0 - x));
+  o_color = vec4(EncodeOutput(color), 1.0);
 #endif
 }

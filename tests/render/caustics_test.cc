@@ -10,6 +10,8 @@
 #include <numeric>
 #include <vector>
 
+#include "render/optics.h"
+
 namespace ripple::render {
 namespace {
 
@@ -58,8 +60,9 @@ TEST(CausticsTest, FlatWaterUnderVerticalLightIsUniform) {
 }
 
 // Without a height field (null, or an empty size) the surface is flat by
-// definition, so the map is the flat-water map: uniform 1, not 0, whatever
-// the light.
+// definition, so the map is the flat-water map: 1 wherever the refracted
+// light lands, the same as a field of zeros gives, and the unlit strip along
+// the walls facing an oblique light.
 TEST(CausticsTest, MissingHeightFieldGivesTheFlatMap) {
   const std::vector<float> h(16, 0.0f);
   const HeightFieldView null_field;
@@ -68,17 +71,77 @@ TEST(CausticsTest, MissingHeightFieldGivesTheFlatMap) {
   for (const HeightFieldView& view : {null_field, empty_field, no_cell_size}) {
     for (const glm::dvec3& light :
          {glm::dvec3(0, 0, 1), glm::dvec3(0.35, 0.25, 1.0)}) {
-      std::vector<float> map;
+      CausticsOptions o;
+      o.light_through_walls = false;
+      std::vector<float> map, zeros;
       CausticsSummary sum;
-      ASSERT_TRUE(ComputeCaustics({}, view, TankGeometry{}, light, &map, &sum));
+      ASSERT_TRUE(ComputeCaustics(o, view, TankGeometry{}, light, &map, &sum));
       ASSERT_EQ(map.size(), 256u * 256u);
+      Field f = MakeField(0.0);
+      ASSERT_TRUE(
+          ComputeCaustics(o, f.view, TankGeometry{}, light, &zeros, nullptr));
+      // The zero field's mesh is 0.2 mm wider than the tank in y, which
+      // moves the edge of the unlit strip along +y; away from it the two
+      // agree.
+      for (int b = 0; b < 230; ++b) {
+        for (int a = 0; a < 256; ++a) {
+          ASSERT_NEAR(map[b * 256 + a], zeros[b * 256 + a], 2e-3)
+              << a << "," << b;
+        }
+      }
       const auto [lo, hi] = std::minmax_element(map.begin(), map.end());
-      EXPECT_EQ(*lo, 1.0f);
       EXPECT_EQ(*hi, 1.0f);
-      EXPECT_NEAR(sum.flux_deposited, sum.flux_in, 1e-12);
-      EXPECT_EQ(sum.flux_outside, 0.0);
+      EXPECT_EQ(*lo, light.x == 0 ? 1.0f : 0.0f);
+      EXPECT_NEAR(sum.flux_deposited + sum.flux_outside, sum.flux_in, 1e-9);
+      EXPECT_EQ(sum.flux_walls, 0.0);
     }
   }
+}
+
+// Light through a glass side wall below the waterline: under flat water the
+// strip along the wall facing an oblique light, which the surface's light
+// misses, gets the slab formula's irradiance, T_wall cos_i |t_z| / (T_surface
+// cos_l |t_x|) relative to flat water, and the light through the wall
+// reaches level |t_x / t_z| into the tank.
+TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
+  const TankGeometry tank;
+  const glm::dvec3 l = glm::normalize(glm::dvec3(0.35, 0.0, 1.0));
+  std::vector<float> map;
+  CausticsSummary sum;
+  ASSERT_TRUE(ComputeCaustics({}, HeightFieldView{}, tank, l, &map, &sum));
+  const double n = 1.333, ng = 1.5;
+  const double cos_i = l.x;
+  const double sin_w = std::sqrt(1 - cos_i * cos_i) / n;  // in the water
+  const double tx = std::sqrt(1 - sin_w * sin_w), tz = sin_w;
+  const double cos_g = std::sqrt(1 - (1 - cos_i * cos_i) / (ng * ng));
+  const double t_wall = (1 - FresnelReflectance(cos_i, 1, ng)) *
+                        (1 - FresnelReflectance(cos_g, ng, n));
+  const double t_surface = 1 - FresnelReflectance(l.z, 1, n);
+  const double ratio = t_wall * cos_i * tz / (t_surface * l.z * tx);
+  const double texel = tank.size_x / 256;
+  // Flat water's unlit strip along +x and the wall light's reach.
+  const double sin_s = std::sqrt(1 - l.z * l.z) / n;
+  const double strip = tank.water_level * sin_s / std::sqrt(1 - sin_s * sin_s);
+  const double reach = tank.water_level * tx / tz;
+  ASSERT_GT(reach, strip + 4 * texel);
+  const int b = 128;
+  for (int a = 0; a < 256; ++a) {
+    const double x0 = -0.5 * tank.size_x + a * texel;
+    const double from_wall = 0.5 * tank.size_x - (x0 + texel);
+    const float v = map[b * 256 + a];
+    if (0.5 * tank.size_x - x0 < strip - 1e-9) {
+      EXPECT_NEAR(v, ratio, 1e-4) << a;  // through the wall only
+    } else if (x0 > 0.5 * tank.size_x - reach + 1e-9 &&
+               from_wall > strip + 1e-9) {
+      EXPECT_NEAR(v, 1.0 + ratio, 1e-4) << a;  // both
+    } else if (from_wall > reach + 1e-9) {
+      EXPECT_NEAR(v, 1.0, 1e-6) << a;  // the surface only
+    }
+  }
+  // The light through the +x wall's submerged area (all of it lands on the
+  // floor for a light in the x-z plane), in the map's units.
+  EXPECT_NEAR(sum.flux_walls, ratio * tank.size_y * reach * l.z,
+              2e-3 * sum.flux_walls);
 }
 
 // Oblique light shifts the lit area by level * tan(refracted angle) away
@@ -88,8 +151,10 @@ TEST(CausticsTest, FlatWaterUnderObliqueLightIsUniformInside) {
   Field f = MakeField(0.0);
   const TankGeometry tank;
   std::vector<float> map;
+  CausticsOptions o;
+  o.light_through_walls = false;
   ASSERT_TRUE(
-      ComputeCaustics({}, f.view, tank, {0.35, 0.25, 1.0}, &map, nullptr));
+      ComputeCaustics(o, f.view, tank, {0.35, 0.25, 1.0}, &map, nullptr));
   float lo = 1e9f, hi = -1e9f;
   for (int b = 0; b < 256 - 40; ++b) {
     for (int a = 0; a < 256 - 40; ++a) {
@@ -111,6 +176,7 @@ TEST(CausticsTest, ConservesEnergy) {
     for (int threads : {1, 3}) {
       CausticsOptions o;
       o.threads = threads;
+      o.light_through_walls = false;  // the surface's light only
       std::vector<float> map;
       CausticsSummary sum;
       ASSERT_TRUE(

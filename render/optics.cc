@@ -1,0 +1,187 @@
+#include "render/optics.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ripple::render {
+namespace {
+
+// Pope & Fry (1997) Table 3, 1/m, every 10 nm from 380 nm.
+constexpr double kPopeFry[] = {
+    0.01137, 0.00851, 0.00663, 0.00473, 0.00454, 0.00495, 0.00635,
+    0.00922, 0.00979, 0.01060, 0.01270, 0.01500, 0.02040, 0.03250,
+    0.04090, 0.04340, 0.04740, 0.05650, 0.06190, 0.06950, 0.08960,
+    0.13510, 0.22240, 0.26440, 0.27550, 0.29160, 0.31080, 0.34000,
+    0.41000, 0.43900, 0.46500, 0.51600, 0.62400, 0.82700, 1.23100};
+constexpr double kPopeFryFirstNm = 380.0;
+constexpr int kPopeFryCount = sizeof(kPopeFry) / sizeof(kPopeFry[0]);
+
+double BandMean(double lo_nm, double hi_nm) {
+  // Trapezoids on the table's own 10 nm grid (band edges are on it).
+  double sum = 0;
+  int n = 0;
+  for (double w = lo_nm; w < hi_nm - 1e-9; w += 10.0, ++n) {
+    sum += 0.5 * (PureWaterAbsorptionAt(w) + PureWaterAbsorptionAt(w + 10.0));
+  }
+  return n > 0 ? sum / n : PureWaterAbsorptionAt(lo_nm);
+}
+
+// Cosine-weighted hemispherical mean of f(cos_theta): the integral of
+// f(mu) 2 mu dmu over [0, 1], by Simpson's rule in mu (f is smooth in mu
+// except at the critical angle, where the fine grid keeps the error small).
+template <typename F>
+double HemisphereMean(F f) {
+  constexpr int kSteps = 4096;  // even
+  const double h = 1.0 / kSteps;
+  double sum = 0;
+  for (int i = 0; i <= kSteps; ++i) {
+    const double mu = i * h;
+    const double w = (i == 0 || i == kSteps) ? 1.0 : (i % 2 ? 4.0 : 2.0);
+    sum += w * f(mu) * 2.0 * mu;
+  }
+  return sum * h / 3.0;
+}
+
+// Cosine of the refracted angle for light from n1 into n2 at cos_i; 0
+// under total internal reflection.
+double CosRefracted(double cos_i, double n1, double n2) {
+  const double sin2_t = (n1 / n2) * (n1 / n2) * (1.0 - cos_i * cos_i);
+  return sin2_t >= 1.0 ? 0.0 : std::sqrt(1.0 - sin2_t);
+}
+
+}  // namespace
+
+double FresnelReflectance(double cos_incident, double n1, double n2) {
+  const double ci = std::clamp(cos_incident, 0.0, 1.0);
+  const double ct = CosRefracted(ci, n1, n2);
+  if (ct <= 0.0) return 1.0;
+  const double rs = (n1 * ci - n2 * ct) / (n1 * ci + n2 * ct);
+  const double rp = (n1 * ct - n2 * ci) / (n1 * ct + n2 * ci);
+  return 0.5 * (rs * rs + rp * rp);
+}
+
+double PureWaterAbsorptionAt(double wavelength_nm) {
+  const double x = (wavelength_nm - kPopeFryFirstNm) / 10.0;
+  if (x <= 0) return kPopeFry[0];
+  if (x >= kPopeFryCount - 1) return kPopeFry[kPopeFryCount - 1];
+  const int i = static_cast<int>(x);
+  const double t = x - i;
+  return kPopeFry[i] * (1.0 - t) + kPopeFry[i + 1] * t;
+}
+
+glm::dvec3 PureWaterAbsorptionRgb() {
+  return {BandMean(600, 700), BandMean(500, 600), BandMean(400, 500)};
+}
+
+double SrgbToLinear(double e) {
+  return e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4);
+}
+
+double LinearToSrgb(double l) {
+  return l <= 0.0031308 ? 12.92 * l : 1.055 * std::pow(l, 1.0 / 2.4) - 0.055;
+}
+
+double HighlightShoulder(double x, double knee) {
+  if (x <= knee) return x;
+  const double room = 1.0 - knee, over = x - knee;
+  return knee + room * over / (over + room);
+}
+
+double DiffuseInternalReflectance(double n) {
+  return HemisphereMean(
+      [n](double mu) { return FresnelReflectance(mu, n, 1.0); });
+}
+
+double SkyTransmittance(double n, double sigma_per_m, double depth_m) {
+  return HemisphereMean([&](double mu) {
+    const double ct = CosRefracted(mu, 1.0, n);
+    return (1.0 - FresnelReflectance(mu, 1.0, n)) *
+           std::exp(-sigma_per_m * depth_m / std::max(ct, 1e-9));
+  });
+}
+
+double DirectTransmittance(double cos_light, double n, double sigma_per_m,
+                           double depth_m) {
+  const double ct = CosRefracted(cos_light, 1.0, n);
+  return (1.0 - FresnelReflectance(cos_light, 1.0, n)) *
+         std::exp(-sigma_per_m * depth_m / std::max(ct, 1e-9));
+}
+
+bool ParseWaterLook(const std::string& name, WaterLook* look) {
+  if (name == "clear") {
+    *look = WaterLook::kClear;
+  } else if (name == "pool") {
+    *look = WaterLook::kPool;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* WaterLookName(WaterLook look) {
+  return look == WaterLook::kClear ? "clear" : "pool";
+}
+
+WaterOptics WaterOptics::ForLook(WaterLook look) {
+  WaterOptics o;
+  o.look = look;
+  if (look == WaterLook::kClear) {
+    o.absorption_per_m = glm::vec3(PureWaterAbsorptionRgb());
+    o.scatter_color = glm::vec3(0.0f);
+  } else {
+    // A stylised swimming-pool tint: tank-scale paths look metres deep.
+    o.absorption_per_m = {28.0f, 9.0f, 6.0f};
+    o.scatter_color = {0.08f, 0.30f, 0.38f};
+  }
+  return o;
+}
+
+bool WaterOptics::IsValid(std::string* error) const {
+  auto fail = [&](const char* m) {
+    if (error) *error = m;
+    return false;
+  };
+  for (int c = 0; c < 3; ++c) {
+    if (!(absorption_per_m[c] >= 0.0f && absorption_per_m[c] <= 1e4f))
+      return fail("water absorption must be in [0, 1e4] per metre");
+    if (!(scatter_color[c] >= 0.0f && scatter_color[c] <= 1.0f))
+      return fail("water scatter colour must be in [0, 1]");
+  }
+  if (!(ior >= 1.0f && ior <= 3.0f)) return fail("water ior must be in [1, 3]");
+  if (!(glass_ior >= 1.0f && glass_ior <= 3.0f))
+    return fail("glass ior must be in [1, 3]");
+  if (!(ambient_share >= 0.0f && ambient_share <= 1.0f))
+    return fail("ambient share must be in [0, 1]");
+  if (!(light_angular_radius_rad >= 1e-4f && light_angular_radius_rad <= 0.5f))
+    return fail("light angular radius must be in [1e-4, 0.5] rad");
+  if (!(highlight_knee > 0.0f && highlight_knee < 1.0f))
+    return fail("highlight knee must be in (0, 1)");
+  return true;
+}
+
+WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
+                                 const glm::dvec3& light_in_tank) {
+  WaterShading s;
+  const double len = glm::length(light_in_tank);
+  const double cos_l = len > 0 ? std::max(light_in_tank.z / len, 1e-3) : 1.0;
+  const double a = o.ambient_share;
+  const double d = std::max(depth_m, 0.0);
+  for (int c = 0; c < 3; ++c) {
+    const double sigma = o.absorption_per_m[c];
+    s.floor_sky[c] = static_cast<float>(a * SkyTransmittance(o.ior, sigma, d));
+    s.floor_sun[c] = static_cast<float>(
+        (1.0 - a) * DirectTransmittance(cos_l, o.ior, sigma, d));
+  }
+  s.internal_reflectance =
+      static_cast<float>(DiffuseInternalReflectance(o.ior));
+  s.inv_n2 = static_cast<float>(1.0 / (double(o.ior) * o.ior));
+  s.glass_transmittance =
+      static_cast<float>((1.0 - FresnelReflectance(1.0, 1.0, o.glass_ior)) *
+                         (1.0 - FresnelReflectance(1.0, o.glass_ior, o.ior)));
+  const double alpha = o.light_angular_radius_rad;
+  s.inv_alpha2 = static_cast<float>(1.0 / (alpha * alpha));
+  s.glint_peak = static_cast<float>((1.0 - a) / (cos_l * alpha * alpha));
+  return s;
+}
+
+}  // namespace ripple::render

@@ -1,0 +1,129 @@
+// Optics of the water, the glass walls and the display, computed on the CPU:
+// Fresnel reflectance, pure water's absorption, the sRGB transfer, the
+// highlight shoulder, and the per-frame constants of the water's shading
+// model. Shared by the real-time renderer (uniforms) and its tests.
+//
+// Radiometric convention (also the offline reference's): display values are
+// linear radiance in which a dry, unshadowed horizontal board point of albedo
+// rho reads exactly rho. The light is a distant disc towards `light` plus a
+// uniform sky; with ambient share a and cos_l = light.z the sky's radiance is
+// a and the disc's irradiance (normal to it) is (1 - a) pi / cos_l, so the
+// camera image of the dry board shows its albedo times its real shadowing.
+#ifndef RIPPLE_RENDER_OPTICS_H_
+#define RIPPLE_RENDER_OPTICS_H_
+
+#include <glm/glm.hpp>
+#include <string>
+
+#include "geometry/camera_model.h"
+
+namespace ripple::render {
+
+// Unpolarised reflectance of a smooth interface between media of refractive
+// indices n1 (incident side) and n2, for light arriving at cos_incident
+// (against the normal, in [0, 1]): the mean of the s and p Fresnel
+// equations. 1 under total internal reflection.
+double FresnelReflectance(double cos_incident, double n1, double n2);
+
+// Absorption coefficient of pure water (1/m) at a wavelength in
+// [380, 720] nm: Pope & Fry (1997), "Absorption spectrum (380-700 nm) of pure
+// water. II. Integrating cavity measurements", Appl. Opt. 36(33), Table 3,
+// sampled every 10 nm and interpolated linearly (clamped outside the range;
+// 710 and 720 nm from the same series).
+double PureWaterAbsorptionAt(double wavelength_nm);
+
+// The camera's three bands as box filters: blue 400-500 nm, green
+// 500-600 nm, red 600-700 nm. Mean of PureWaterAbsorptionAt over each band
+// (trapezoidal over the 10 nm table), RGB order: about (0.36, 0.070, 0.0088).
+glm::dvec3 PureWaterAbsorptionRgb();
+
+// The sRGB transfer (IEC 61966-2-1), piecewise, values in [0, 1].
+double SrgbToLinear(double encoded);
+double LinearToSrgb(double linear);
+
+// Highlight shoulder: the identity up to `knee`, then a rational roll-off
+// towards 1 (Reinhard's x / (1 + x) on the part above the knee, scaled to
+// the room left), with slope 1 at the knee, so radiance above the display
+// range keeps its order and shape instead of clipping flat. knee in (0, 1).
+double HighlightShoulder(double linear, double knee);
+
+// Share of uniform (Lambertian) radiance inside a medium of index n that a
+// flat interface to air (index 1) reflects back into it: the cosine-weighted
+// hemispherical mean of FresnelReflectance, total internal reflection
+// included (1 - 1/n^2 of it from beyond the critical angle). About 0.475 for
+// water.
+double DiffuseInternalReflectance(double n);
+
+// Cosine-weighted hemispherical transmittance of a uniform sky through a flat
+// surface of index n into a layer of depth `depth_m` with absorption
+// `sigma_per_m`, to its floor: the mean over sky directions of
+// (1 - F(theta)) exp(-sigma depth / cos(theta_refracted)).
+double SkyTransmittance(double n, double sigma_per_m, double depth_m);
+
+// The direct light's transmittance through a flat surface to a floor
+// `depth_m` below: (1 - F(theta_l)) exp(-sigma depth / cos(theta_refracted)),
+// for a light at cos_light above the horizon.
+double DirectTransmittance(double cos_light, double n, double sigma_per_m,
+                           double depth_m);
+
+// The water's optical parameters.
+enum class WaterLook {
+  kClear,  // pure water: Pope & Fry absorption, no scatter colour
+  kPool,   // the stylised pool: strong cyan absorption and a deep-water colour
+};
+bool ParseWaterLook(const std::string& name, WaterLook* look);
+const char* WaterLookName(WaterLook look);
+
+// The video's (and so the output's) encoding: geometry/camera_model.h.
+using geometry::Transfer;
+
+struct WaterOptics {
+  // Defaults: the clear look.
+  WaterLook look = WaterLook::kClear;
+  glm::vec3 absorption_per_m = glm::vec3(PureWaterAbsorptionRgb());  // 1/m
+  glm::vec3 scatter_color{0.0f};  // linear RGB of deep water; 0 = none
+  float ior = 1.333f;             // water, visible light at 20 C
+  float glass_ior = 1.5f;         // the tank's walls
+  // Share of the board's light that comes from the sky (see above).
+  float ambient_share = 0.3f;
+  // Angular radius of the light's disc, radians (glints on the ripples).
+  float light_angular_radius_rad = 2.0f * 3.14159265f / 180.0f;
+  // Highlight shoulder's knee (linear display value).
+  float highlight_knee = 0.8f;
+
+  // The look's absorption and scatter colour, other fields at defaults.
+  static WaterOptics ForLook(WaterLook look);
+  bool IsValid(std::string* error) const;
+};
+
+// Per-frame constants of the water's shading model (linear RGB where
+// vectors), for a tank of rest depth `depth_m` under a light towards
+// `light_in_tank` (z > 0, normalised inside). The shader combines, for a
+// floor point of video colour V seen through the surface:
+//   V * (floor_sky + floor_sun * caustics * shadow) / (1 - V * R_int) / n^2,
+// i.e. the sky and the direct light reaching the floor through the flat
+// surface (relative to the dry board), the floor<->surface inter-reflection
+// (total internal reflection sends light back onto the floor) and radiance's
+// 1/n^2 on leaving the water; then Beer-Lambert along the view path and
+// Fresnel against the reflection.
+struct WaterShading {
+  glm::vec3 floor_sky{0.0f};       // a * SkyTransmittance per band
+  glm::vec3 floor_sun{0.0f};       // (1 - a) * DirectTransmittance per band
+  float internal_reflectance = 0;  // DiffuseInternalReflectance(n)
+  float inv_n2 = 1;                // 1 / n^2
+  // A floor point seen through a glass wall from inside the water: what the
+  // video shows beyond it, times the glass's two interfaces at normal
+  // incidence.
+  float glass_transmittance = 1;
+  // Glint radiance per unit Fresnel at the centre of the light's disc:
+  // (1 - a) / (cos_l alpha^2), the disc's radiance with its energy spread
+  // as exp(-theta^2 / alpha^2) / (pi alpha^2) around the light.
+  float glint_peak = 0;
+  float inv_alpha2 = 0;  // 1 / alpha^2
+};
+WaterShading ComputeWaterShading(const WaterOptics& optics, double depth_m,
+                                 const glm::dvec3& light_in_tank);
+
+}  // namespace ripple::render
+
+#endif  // RIPPLE_RENDER_OPTICS_H_

@@ -1,0 +1,172 @@
+// The water's optics against their formulas: Fresnel's equations, pure
+// water's absorption, the sRGB transfer, the highlight shoulder, and the
+// diffuse interface relations the shading model relies on.
+#include "render/optics.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace ripple::render {
+namespace {
+
+constexpr double kWater = 1.333;
+
+TEST(OpticsTest, FresnelAtNormalIncidenceBrewsterAndGrazing) {
+  const double r0 = std::pow((kWater - 1) / (kWater + 1), 2);
+  EXPECT_NEAR(FresnelReflectance(1.0, 1.0, kWater), r0, 1e-12);
+  EXPECT_NEAR(FresnelReflectance(1.0, kWater, 1.0), r0, 1e-12);
+  // At Brewster's angle p-polarised light is not reflected: R = rs^2 / 2.
+  const double tb = std::atan(kWater);
+  const double ci = std::cos(tb), ct = std::sin(tb);  // theta_t = 90 - theta_b
+  const double rs = (ci - kWater * ct) / (ci + kWater * ct);
+  EXPECT_NEAR(FresnelReflectance(ci, 1.0, kWater), 0.5 * rs * rs, 1e-12);
+  EXPECT_NEAR(FresnelReflectance(1e-9, 1.0, kWater), 1.0, 1e-6);
+  // Monotonic in the angle from the air side.
+  double last = 0;
+  for (double c = 1.0; c > 0.0; c -= 0.01) {
+    const double r = FresnelReflectance(c, 1.0, kWater);
+    EXPECT_GE(r, last - 1e-12);
+    last = r;
+  }
+}
+
+TEST(OpticsTest, FresnelIsReciprocalAndTotalInsideBeyondTheCriticalAngle) {
+  for (double c_air = 0.05; c_air <= 1.0; c_air += 0.05) {
+    const double sin_w = std::sqrt(1 - c_air * c_air) / kWater;
+    const double c_water = std::sqrt(1 - sin_w * sin_w);
+    EXPECT_NEAR(FresnelReflectance(c_air, 1.0, kWater),
+                FresnelReflectance(c_water, kWater, 1.0), 1e-12);
+  }
+  const double c_crit = std::sqrt(1 - 1 / (kWater * kWater));
+  EXPECT_EQ(FresnelReflectance(c_crit - 1e-6, kWater, 1.0), 1.0);
+  EXPECT_LT(FresnelReflectance(c_crit + 1e-3, kWater, 1.0), 1.0);
+}
+
+TEST(OpticsTest, PopeAndFryTableAndBandMeans) {
+  // Table values (Pope & Fry 1997, Table 3).
+  EXPECT_DOUBLE_EQ(PureWaterAbsorptionAt(420), 0.00454);
+  EXPECT_DOUBLE_EQ(PureWaterAbsorptionAt(550), 0.0565);
+  EXPECT_DOUBLE_EQ(PureWaterAbsorptionAt(650), 0.34);
+  EXPECT_NEAR(PureWaterAbsorptionAt(655), 0.5 * (0.34 + 0.41), 1e-12);
+  // Band means by a fine independent quadrature of the interpolant.
+  auto mean = [](double lo, double hi) {
+    double s = 0;
+    const int n = 10000;
+    for (int i = 0; i < n; ++i) {
+      s += PureWaterAbsorptionAt(lo + (i + 0.5) * (hi - lo) / n);
+    }
+    return s / n;
+  };
+  const glm::dvec3 rgb = PureWaterAbsorptionRgb();
+  EXPECT_NEAR(rgb.r, mean(600, 700), 1e-6);
+  EXPECT_NEAR(rgb.g, mean(500, 600), 1e-6);
+  EXPECT_NEAR(rgb.b, mean(400, 500), 1e-6);
+  // Red is absorbed ~5x more than green and ~40x more than blue.
+  EXPECT_NEAR(rgb.r, 0.36, 0.02);
+  EXPECT_NEAR(rgb.g, 0.070, 0.005);
+  EXPECT_NEAR(rgb.b, 0.0086, 0.002);
+}
+
+TEST(OpticsTest, SrgbTransfer) {
+  EXPECT_NEAR(LinearToSrgb(0.5), 0.735357, 1e-6);
+  EXPECT_NEAR(SrgbToLinear(0.5), 0.214041, 1e-6);
+  EXPECT_EQ(LinearToSrgb(0.0), 0.0);
+  EXPECT_NEAR(LinearToSrgb(1.0), 1.0, 1e-12);
+  for (double x = 0; x <= 1.0; x += 0.001) {
+    EXPECT_NEAR(SrgbToLinear(LinearToSrgb(x)), x, 1e-9);
+  }
+  // Continuous at the breakpoint (to the standard's rounding of 12.92).
+  EXPECT_NEAR(LinearToSrgb(0.0031308 - 1e-9), LinearToSrgb(0.0031308 + 1e-9),
+              1e-6);
+}
+
+TEST(OpticsTest, HighlightShoulderKeepsTheShapeAboveTheKnee) {
+  const double k = 0.8;
+  EXPECT_EQ(HighlightShoulder(0.5, k), 0.5);
+  EXPECT_EQ(HighlightShoulder(k, k), k);
+  const double h = 1e-6;
+  EXPECT_NEAR((HighlightShoulder(k + h, k) - HighlightShoulder(k, k)) / h, 1.0,
+              1e-4);
+  double last = 0;
+  for (double x = 0; x < 50; x += 0.05) {
+    const double y = HighlightShoulder(x, k);
+    EXPECT_GT(y, last - 1e-15);
+    EXPECT_LT(y, 1.0);
+    last = y;
+  }
+  // Caustic irradiance of 1.5 and 3 stays apart by several 8-bit levels
+  // after sRGB encoding (clipping made them equal).
+  EXPECT_GE(255 * (LinearToSrgb(HighlightShoulder(3.0, k)) -
+                   LinearToSrgb(HighlightShoulder(1.5, k))),
+            3.0);
+}
+
+// Energy between the two sides of a flat interface: the diffuse light a
+// medium of index n lets out is (1 - R_internal), and reciprocity makes it
+// the external diffuse transmittance over n^2.
+TEST(OpticsTest, DiffuseInterfaceRelations) {
+  const double r_int = DiffuseInternalReflectance(kWater);
+  const double t_ext = SkyTransmittance(kWater, 0.0, 0.0);
+  EXPECT_NEAR((1 - r_int) * kWater * kWater, t_ext, 1e-4);
+  EXPECT_GT(r_int, 1 - 1 / (kWater * kWater));  // TIR alone
+  EXPECT_NEAR(r_int, 0.475, 0.01);
+  EXPECT_NEAR(t_ext, 0.934, 0.005);
+  // Absorption: the mean path to the floor is longer than the depth.
+  const double sigma = 2.0, d = 0.05;
+  EXPECT_LT(SkyTransmittance(kWater, sigma, d), t_ext * std::exp(-sigma * d));
+  EXPECT_GT(SkyTransmittance(kWater, sigma, d),
+            t_ext * std::exp(-sigma * d * kWater));
+  EXPECT_NEAR(DirectTransmittance(1.0, kWater, sigma, d),
+              (1 - FresnelReflectance(1.0, 1.0, kWater)) * std::exp(-sigma * d),
+              1e-12);
+}
+
+TEST(OpticsTest, WaterShadingConstants) {
+  WaterOptics o = WaterOptics::ForLook(WaterLook::kClear);
+  const glm::dvec3 light(0.0, 0.6, 0.8);
+  const WaterShading s = ComputeWaterShading(o, 0.025, light);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(
+        s.floor_sky[c],
+        o.ambient_share * SkyTransmittance(o.ior, o.absorption_per_m[c], 0.025),
+        1e-6);
+    EXPECT_NEAR(
+        s.floor_sun[c],
+        (1 - o.ambient_share) *
+            DirectTransmittance(0.8, o.ior, o.absorption_per_m[c], 0.025),
+        1e-6);
+  }
+  // Clear water at 25 mm keeps ~95% of the light for every band.
+  EXPECT_GT(s.floor_sky.r + s.floor_sun.r, 0.9);
+  const double alpha = o.light_angular_radius_rad;
+  EXPECT_NEAR(s.glint_peak, (1 - o.ambient_share) / (0.8 * alpha * alpha),
+              1e-3);
+  EXPECT_NEAR(s.inv_n2, 1 / (o.ior * o.ior), 1e-6);
+}
+
+TEST(OpticsTest, OptionsAndNames) {
+  std::string error;
+  EXPECT_TRUE(WaterOptics::ForLook(WaterLook::kPool).IsValid(&error));
+  WaterOptics o;
+  o.ambient_share = 1.5f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("ambient"), std::string::npos);
+  o = WaterOptics();
+  o.light_angular_radius_rad = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  o = WaterOptics();
+  o.absorption_per_m.r = std::nanf("");
+  EXPECT_FALSE(o.IsValid(&error));
+  WaterLook look;
+  EXPECT_TRUE(ParseWaterLook("pool", &look));
+  EXPECT_EQ(look, WaterLook::kPool);
+  EXPECT_FALSE(ParseWaterLook("Pool", &look));
+  Transfer t;
+  EXPECT_TRUE(geometry::ParseTransfer("linear", &t));
+  EXPECT_EQ(t, Transfer::kLinear);
+  EXPECT_FALSE(geometry::ParseTransfer("gamma", &t));
+}
+
+}  // namespace
+}  // namespace ripple::render

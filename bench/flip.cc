@@ -34,11 +34,23 @@ constexpr float kFeatureExponent = 0.5f;
 constexpr double kPc = 0.4;
 constexpr double kPt = 0.95;
 
-// Linear sRGB (D65) to CIE XYZ, IEC 61966-2-1.
+// Linear sRGB to CIE XYZ, derived from the chromaticities of the sRGB
+// primaries and its D65 white (IEC 61966-2-1) rather than taken rounded: each
+// primary's column is (x / y, 1, (1 - x - y) / y) scaled so that RGB (1, 1, 1)
+// maps to the white with Y = 1.
 const cv::Matx33d& XyzFromRgb() {
-  static const cv::Matx33d m(0.4124564, 0.3575761, 0.1804375,  //
-                             0.2126729, 0.7151522, 0.0721750,  //
-                             0.0193339, 0.1191920, 0.9503041);
+  static const cv::Matx33d m = [] {
+    auto column = [](double x, double y) {
+      return cv::Vec3d(x / y, 1, (1 - x - y) / y);
+    };
+    const cv::Vec3d r = column(0.64, 0.33), g = column(0.30, 0.60),
+                    b = column(0.15, 0.06), white = column(0.3127, 0.3290);
+    const cv::Matx33d primaries(r[0], g[0], b[0],  //
+                                r[1], g[1], b[1],  //
+                                r[2], g[2], b[2]);
+    const cv::Vec3d scale = primaries.inv() * white;
+    return primaries * cv::Matx33d::diag(scale);
+  }();
   return m;
 }
 

@@ -471,24 +471,28 @@ bool ComputeFlip(const FlipOptions& options, const cv::Mat& reference,
   }
 
   error_map->create(reference.size(), CV_32F);
-  for (int row = 0; row < reference.rows; ++row) {
-    const float* r0 = f_r[0].ptr<float>(row);
-    const float* r1 = f_r[1].ptr<float>(row);
-    const float* r2 = f_r[2].ptr<float>(row);
-    const float* t0 = f_t[0].ptr<float>(row);
-    const float* t1 = f_t[1].ptr<float>(row);
-    const float* t2 = f_t[2].ptr<float>(row);
-    const float* fe = feature.ptr<float>(row);
-    float* out = error_map->ptr<float>(row);
-    for (int col = 0; col < reference.cols; ++col) {
-      float lr, ar, br, lt, at, bt;
-      HuntLabFromYcc(r0[col], r1[col], r2[col], &lr, &ar, &br);
-      HuntLabFromYcc(t0[col], t1[col], t2[col], &lt, &at, &bt);
-      const float color = Compress(HyABOf(lr, ar, br, lt, at, bt));
-      // dE = dEc^(1 - dEf) (FLIP, final error).
-      out[col] = std::pow(color, 1.0f - fe[col]);
+  cv::Mat& map = *error_map;
+  // Rows are independent; the per-pixel colour conversions dominate the cost.
+  cv::parallel_for_(cv::Range(0, reference.rows), [&](const cv::Range& rows) {
+    for (int row = rows.start; row < rows.end; ++row) {
+      const float* r0 = f_r[0].ptr<float>(row);
+      const float* r1 = f_r[1].ptr<float>(row);
+      const float* r2 = f_r[2].ptr<float>(row);
+      const float* t0 = f_t[0].ptr<float>(row);
+      const float* t1 = f_t[1].ptr<float>(row);
+      const float* t2 = f_t[2].ptr<float>(row);
+      const float* fe = feature.ptr<float>(row);
+      float* out = map.ptr<float>(row);
+      for (int col = 0; col < map.cols; ++col) {
+        float lr, ar, br, lt, at, bt;
+        HuntLabFromYcc(r0[col], r1[col], r2[col], &lr, &ar, &br);
+        HuntLabFromYcc(t0[col], t1[col], t2[col], &lt, &at, &bt);
+        const float color = Compress(HyABOf(lr, ar, br, lt, at, bt));
+        // dE = dEc^(1 - dEf) (FLIP, final error).
+        out[col] = std::pow(color, 1.0f - fe[col]);
+      }
     }
-  }
+  });
   return true;
 }
 

@@ -40,8 +40,9 @@ struct FlipOptions {
 // Images: both CV_8UC3 BGR, sRGB-encoded (LDR-FLIP's input), or both CV_32FC3
 // linear BGR with every value in [0, 1]; equal size, at least 1x1. Borders
 // are clamped to the edge. `error_map` (may be null: inputs are only checked)
-// becomes CV_32FC1 of the image size, values in [0, 1], 0 where the images
-// agree. Returns false with `error` on invalid options or inputs.
+// becomes CV_32FC1 of the image size, values in [0, 1]: 0 wherever the
+// images agree over the filters' reach (everywhere for identical images).
+// Returns false with `error` on invalid options or inputs.
 bool ComputeFlip(const FlipOptions& options, const cv::Mat& reference,
                  const cv::Mat& test, cv::Mat* error_map, std::string* error);
 

@@ -14,6 +14,15 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
   sub->add_flag("--no-reflection", args->no_reflection, "Disable reflection");
   sub->add_flag("--no-refraction", args->no_refraction, "Disable refraction");
+  sub->add_option("--water-look", args->water_look,
+                  "Water optics: clear (pure water, Pope & Fry absorption; "
+                  "default) or pool (stylised cyan tint)");
+  sub->add_option("--ambient", args->ambient,
+                  "Share of the board's light from the sky, 0..1 (default "
+                  "0.3): the floor's brightness in full shadow");
+  sub->add_option("--light-size", args->light_size_deg,
+                  "Angular radius of the light, degrees (default 2): the "
+                  "size of the glints on the ripples");
 }
 
 bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
@@ -35,6 +44,28 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
+  render::WaterLook look;
+  if (!render::ParseWaterLook(args->water_look, &look)) {
+    if (error) *error = "--water-look '" + args->water_look + "': use clear or pool";
+    return false;
+  }
+  render::WaterOptics& optics = o.renderer.optics;
+  optics = render::WaterOptics::ForLook(look);
+  if (!std::isnan(args->ambient)) {
+    if (!(args->ambient >= 0 && args->ambient <= 1)) {
+      if (error) *error = "--ambient must be in [0, 1]";
+      return false;
+    }
+    optics.ambient_share = static_cast<float>(args->ambient);
+  }
+  if (!std::isnan(args->light_size_deg)) {
+    if (!(args->light_size_deg >= 0.01 && args->light_size_deg <= 20)) {
+      if (error) *error = "--light-size must be in [0.01, 20] degrees";
+      return false;
+    }
+    optics.light_angular_radius_rad =
+        static_cast<float>(args->light_size_deg * M_PI / 180.0);
+  }
   return o.IsValid(error);
 }
 

@@ -5,6 +5,7 @@
 
 #include <CLI/CLI.hpp>
 #include <opencv2/core.hpp>
+#include <cmath>
 #include <string>
 
 #include "app/app_pipeline.h"
@@ -18,6 +19,10 @@ struct PipelineArgs {
   WaterArgs water;
   bool no_caustics = false, no_shadows = false, no_reflection = false,
        no_refraction = false;
+  // Optics (render/optics.h); NaN: the look's default.
+  std::string water_look = "clear";
+  double ambient = std::nan("");         // sky's share of the light, [0, 1]
+  double light_size_deg = std::nan("");  // angular radius of the light
 };
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.

@@ -245,6 +245,11 @@ RIPPLE_CAUSTICS_KERNEL(TrianglesRows,
 }  // namespace
 
 struct CausticsWorkspace::Buffers {
+  // The light through the walls depends on the tank, the light and the map
+  // only (rest level): kept until one of them changes.
+  std::vector<float> walls;
+  std::vector<double> walls_key;
+  double walls_flux = 0;
   std::vector<float> hc;
   // Corner arrays with zero padding before and after (see Ctx).
   std::vector<float> u, v, atten, z;
@@ -277,13 +282,22 @@ bool CausticsOptions::IsValid(std::string* error) const {
 namespace {
 
 void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
-              const glm::dvec3& l, std::vector<float>* map,
-              CausticsSummary* summary) {
+              const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
+              std::vector<float>* map, CausticsSummary* summary) {
   if (!o.light_through_walls) return;
-  const double flux = caustics_internal::AddWallLight(
-      tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
-      map->data());
-  if (summary) summary->flux_walls = flux;
+  const std::vector<double> key = {
+      tank.size_x, tank.size_y, tank.water_level, l.x,   l.y,
+      l.z,         o.ior,       o.glass_ior,      o.attenuation_per_m,
+      double(o.map_nx), double(o.map_ny)};
+  if (ws->walls_key != key) {
+    ws->walls.assign(map->size(), 0.0f);
+    ws->walls_flux = caustics_internal::AddWallLight(
+        tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
+        ws->walls.data());
+    ws->walls_key = key;
+  }
+  for (size_t i = 0; i < map->size(); ++i) (*map)[i] += ws->walls[i];
+  if (summary) summary->flux_walls = ws->walls_flux;
 }
 
 }  // namespace
@@ -317,7 +331,7 @@ bool ComputeCaustics(const CausticsOptions& options,
                                 (tank.size_y / my);
       summary->flux_outside = summary->flux_in - summary->flux_deposited;
     }
-    AddWalls(options, tank, ld, map, summary);
+    AddWalls(options, tank, ld, &ws, map, summary);
     return true;
   }
   const bool simd = options.simd;
@@ -452,7 +466,7 @@ bool ComputeCaustics(const CausticsOptions& options,
     summary->flux_deposited = in_map;
     summary->flux_outside += in_buffer - in_map;  // in the margin
   }
-  AddWalls(options, tank, glm::normalize(light_in_tank), map, summary);
+  AddWalls(options, tank, glm::normalize(light_in_tank), &ws, map, summary);
   return true;
 }
 

@@ -19,7 +19,7 @@ namespace ripple::render::internal {
 class ObstaclesPass {
  public:
   struct Options {
-    glm::vec3 albedo{0.62f, 0.56f, 0.48f};  // linear RGB
+    glm::vec3 albedo{0.80f, 0.76f, 0.70f};  // linear RGB
     // The output is sRGB-encoded: the refraction copy decodes it on fetch.
     bool srgb = true;
   };

@@ -62,7 +62,7 @@ struct RendererOptions {
   // pixels outside the water are the video's own.
   Transfer video_transfer = Transfer::kSrgb;
   float reflection_distance_m = 0.3f;  // distance to the reflected scene
-  glm::vec3 obstacle_albedo{0.62f, 0.56f, 0.48f};  // linear RGB
+  glm::vec3 obstacle_albedo{0.80f, 0.76f, 0.70f};  // linear RGB
 
   enum class Timing {
     kNone,        // only CPU-side timings (uploads, caustics)

@@ -213,9 +213,17 @@ TEST(FloorPatternTest, RendererMatchesTheBoardAlbedoFromAbove) {
   scene.flat_lighting = true;
   scene.cam_from_tank =
       tracking::LookAt({0, 0, z}, {0, 0, 0}, {0, 1, 0}).Inverse();
-  for (const FloorKind kind : {FloorKind::kPlain, FloorKind::kTiles}) {
+  // An image floor of texels larger than the pixels: both sides integrate
+  // the same texels exactly.
+  const std::string image = ::testing::TempDir() + "/ripple_floor_above.png";
+  cv::Mat texels(5, 8, CV_8UC3);
+  cv::randu(texels, 0, 256);
+  ASSERT_TRUE(cv::imwrite(image, texels));
+  for (const FloorKind kind :
+       {FloorKind::kPlain, FloorKind::kTiles, FloorKind::kImage}) {
     FloorOptions o;
     o.kind = kind;
+    o.image_path = image;
     const FloorPattern floor = Make(o, rig.tank.size_x_m, rig.tank.size_y_m);
     const cv::Mat img = SceneRenderer(cam, rig, floor).RenderLinear(scene);
     // Pixel u spans tank x in [(u - 0.5 - cx), (u + 0.5 - cx)] / px_per_m;

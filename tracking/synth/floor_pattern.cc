@@ -57,7 +57,7 @@ bool FloorOptions::IsValid(std::string* error) const {
   };
   if (kind == FloorKind::kTiles) {
     if (!(tile_m >= 5e-4 && tile_m <= 1.0))
-      return fail("floor tile pitch must be in (0.5 mm, 1 m]");
+      return fail("floor tile pitch must be in [0.5 mm, 1 m]");
     if (!(grout_m >= 0 && grout_m < tile_m))
       return fail("floor grout width must be in [0, tile pitch)");
     if (!InUnitRange(grout_bgr) || !InUnitRange(tile_a_bgr) ||

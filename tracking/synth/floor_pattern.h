@@ -64,7 +64,7 @@ struct FloorOptions {
   // paper's own reflectance.
   std::string image_path;
 
-  // Tile pitch in (0.5 mm, 1 m], grout in [0, pitch), every reflectance in
+  // Tile pitch in [0.5 mm, 1 m], grout in [0, pitch), every reflectance in
   // [0, 1] and at most the paper's (what paper can print); an image path for
   // kImage.
   bool IsValid(std::string* error) const;

@@ -4,9 +4,10 @@ namespace ripple::app {
 
 SynthSource::SynthSource(const tracking::Camera& camera,
                          const tracking::Rig& rig,
-                         std::vector<synth::FrameSpec> frames)
+                         std::vector<synth::FrameSpec> frames,
+                         synth::FloorPattern floor)
     : FrameSource(Kind::kSynthetic, "synthetic"),
-      renderer_(camera, rig),
+      renderer_(camera, rig, std::move(floor)),
       frames_(std::move(frames)) {
   size_ = cv::Size(camera.width, camera.height);
 }

@@ -13,7 +13,8 @@ namespace ripple::app {
 class SynthSource : public FrameSource {
  public:
   SynthSource(const tracking::Camera& camera, const tracking::Rig& rig,
-              std::vector<synth::FrameSpec> frames);
+              std::vector<synth::FrameSpec> frames,
+              synth::FloorPattern floor = synth::FloorPattern());
 
   // Renders the next spec (exact scene, imaging effects, the spec's noise
   // seed); its time is the spec's time_s.

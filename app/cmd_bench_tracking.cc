@@ -7,6 +7,7 @@
 
 #include "app/app_bench.h"
 #include "app/app_common.h"
+#include "app/app_floor.h"
 #include "app/app_wxh.h"
 #include "app/command.h"
 #include "bench/tracking_bench.h"
@@ -23,6 +24,7 @@ struct BenchArgs {
   std::string sweep = "short";
   bench::TrackingBenchOptions options;
   bool frames_csv = false;
+  std::string floor;
 };
 
 int RunBenchTracking(BenchArgs& args) {
@@ -30,6 +32,9 @@ int RunBenchTracking(BenchArgs& args) {
   if (!base_camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
+  auto floor = MakeFloorOrReport(args.floor, *rig);
+  if (!floor) return kExitBadInput;
+  args.options.floor = *floor;
   args.options.sweep = args.sweep == "full"      ? bench::Sweep::kFull
                        : args.sweep == "default" ? bench::Sweep::kDefault
                                                  : bench::Sweep::kShort;
@@ -110,6 +115,7 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
       ->check(CLI::Range(1, 64));
   sub->add_option("--seed", args->options.seed, "Sequence seed")
       ->capture_default_str();
+  AddFloorOption(sub, &args->floor);
   return [args] { return RunBenchTracking(*args); };
 }
 

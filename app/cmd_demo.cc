@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "app/app_common.h"
+#include "app/app_floor.h"
 #include "app/app_loop.h"
 #include "app/app_options.h"
 #include "app/app_pipeline.h"
@@ -25,6 +26,7 @@ struct DemoArgs {
   int frames = 240;
   int idle_frames = 60;
   uint64_t seed = 1;
+  std::string floor;
   PipelineArgs pipeline;  // --gl, water and effects
 };
 
@@ -36,6 +38,8 @@ int RunDemo(DemoArgs args) {
   if (!rig->pen)
     return Fail(kExitBadInput,
                 "rig file '" + args.rig + "': the demo needs a pen");
+  auto floor = MakeFloorOrReport(args.floor, *rig);
+  if (!floor) return kExitBadInput;
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
@@ -68,7 +72,7 @@ int RunDemo(DemoArgs args) {
     frames.push_back(f);
   }
   const int total = static_cast<int>(frames.size());
-  SynthSource source(*camera, *rig, std::move(frames));
+  SynthSource source(*camera, *rig, std::move(frames), *floor);
 
   VideoSink video;
   const std::string video_path = args.out + "/demo.mp4";
@@ -96,10 +100,11 @@ int RunDemo(DemoArgs args) {
     // The idle tail starts from calm water, so it shows the at-rest cost.
     if (index == args.frames) pipeline->water().Reset();
   };
-  std::printf("demo: %d active + %d idle frames of %dx%d on %s (%s)\n",
-              args.frames, args.idle_frames, camera->width, camera->height,
-              render::BackendName(*backend),
-              pipeline->context().Description().c_str());
+  std::printf(
+      "demo: %d active + %d idle frames of %dx%d, %s floor, on %s (%s)\n",
+      args.frames, args.idle_frames, camera->width, camera->height,
+      synth::ToString(floor->kind()), render::BackendName(*backend),
+      pipeline->context().Description().c_str());
   FrameLoopSummary summary;
   RunFrameLoop(hooks, &source, nullptr, pipeline.get(),
                {&tables, &video, &poses, &snapshot, &progress}, &summary);
@@ -132,6 +137,7 @@ CommandAction SetupDemo(CLI::App* sub) {
       ->check(CLI::Range(1, 100000));
   AddPipelineOptions(sub, &args->pipeline);
   sub->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
+  AddFloorOption(sub, &args->floor);
   return [args] { return RunDemo(*args); };
 }
 

@@ -1,9 +1,10 @@
-// `ripple markers`: printable sheets at exact scale (board, cube net,
-// calibration chessboard) as PDF, SVG and PNG.
+// `ripple markers`: printable sheets at exact scale (board with its tank
+// floor, cube net, calibration chessboard) as PDF, SVG and PNG.
 #include <cstdio>
 #include <memory>
 
 #include "app/app_common.h"
+#include "app/app_floor.h"
 #include "app/app_wxh.h"
 #include "app/command.h"
 #include "calib/marker_sheet.h"
@@ -19,11 +20,14 @@ struct MarkersArgs {
   double dpi = 300;
   std::string chessboard = "9x6";
   double square = 0.025;
+  std::string floor;
 };
 
 int RunMarkers(const MarkersArgs& args) {
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
+  auto floor = MakeFloorOrReport(args.floor, *rig);
+  if (!floor) return kExitBadInput;
   WxH pattern;
   ParseWxH(args.chessboard, &pattern, WxHLimits::Pattern());  // validated
   std::string error;
@@ -45,7 +49,8 @@ int RunMarkers(const MarkersArgs& args) {
     };
     calib::Sheet sheet;
     std::vector<calib::NetFace> faces;
-    if (!emit("board", calib::MakeBoardSheet(*rig, paper, &sheet, &error),
+    if (!emit("board",
+              calib::MakeBoardSheet(*rig, paper, *floor, &sheet, &error),
               sheet))
       return Fail(kExitRuntime, error);
     if (rig->pen) {
@@ -91,6 +96,7 @@ CommandAction SetupMarkers(CLI::App* sub) {
   sub->add_option("--square", args->square, "Chessboard square edge, metres")
       ->capture_default_str()
       ->check(CLI::Range(0.003, 0.2));
+  AddFloorOption(sub, &args->floor);
   return [args] { return RunMarkers(*args); };
 }
 

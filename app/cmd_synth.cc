@@ -4,6 +4,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "app/app_common.h"
+#include "app/app_floor.h"
 #include "app/app_video.h"
 #include "app/app_wxh.h"
 #include "app/command.h"
@@ -22,6 +23,7 @@ struct SynthArgs {
   std::string video;
   synth::SequenceOptions seq;
   bool no_png = false;
+  std::string floor;
 };
 
 int RunSynth(const SynthArgs& args) {
@@ -29,6 +31,8 @@ int RunSynth(const SynthArgs& args) {
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
+  auto floor = MakeFloorOrReport(args.floor, *rig);
+  if (!floor) return kExitBadInput;
   if (!args.size.empty()) {
     WxH size;
     ParseWxH(args.size, &size);  // checked by the option's validator
@@ -55,7 +59,7 @@ int RunSynth(const SynthArgs& args) {
                   cv::Size(camera->width, camera->height), &error))
     return Fail(kExitBadInput, error);
 
-  const synth::SceneRenderer renderer(*camera, *rig);
+  const synth::SceneRenderer renderer(*camera, *rig, *floor);
   const bench::Stopwatch watch;
   for (const synth::FrameSpec& f : frames) {
     const synth::RenderedFrame r =
@@ -96,11 +100,12 @@ int RunSynth(const SynthArgs& args) {
                 "cannot finish '" + args.out + "/groundtruth.csv'");
   const double secs = watch.ElapsedS();
   std::printf(
-      "synth: %zu frames of %dx%d (preset %s, seed %llu) in %.1f s (%.1f "
-      "ms/frame) -> %s\n",
+      "synth: %zu frames of %dx%d (preset %s, seed %llu, %s floor) in %.1f s "
+      "(%.1f ms/frame) -> %s\n",
       frames.size(), camera->width, camera->height, args.seq.preset.c_str(),
-      static_cast<unsigned long long>(args.seq.seed), secs,
-      1e3 * secs / frames.size(), args.out.c_str());
+      static_cast<unsigned long long>(args.seq.seed),
+      synth::ToString(floor->kind()), secs, 1e3 * secs / frames.size(),
+      args.out.c_str());
   return kExitOk;
 }
 
@@ -136,6 +141,7 @@ CommandAction SetupSynth(CLI::App* sub) {
   sub->add_option("--video", args->video,
                   "Also write the frames as a video (.mkv lossless, .mp4)");
   sub->add_flag("--no-png", args->no_png, "Skip the PNG frames (with --video)");
+  AddFloorOption(sub, &args->floor);
   sub->footer([] {
     return synth::DescribePreset("benchmark") + synth::DescribePreset("clean") +
            synth::DescribePreset("demo");

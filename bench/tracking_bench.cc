@@ -219,7 +219,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   seq.seed = options.seed;
   std::vector<synth::FrameSpec> specs;
   if (!synth::MakeSequence(camera, rig, seq, &specs, error)) return false;
-  synth::SceneRenderer renderer(camera, rig);
+  synth::SceneRenderer renderer(camera, rig, options.floor);
   result->settings = MakeTrackingSettings(options.sweep, options.threads);
   auto& settings = result->settings;
   std::map<double, std::unique_ptr<tracking::TagDetector>> detectors;
@@ -320,11 +320,13 @@ std::string FormatTrackingTable(const TrackingBenchOptions& options,
   char buf[1024];
   std::snprintf(
       buf, sizeof(buf),
-      "\n### %s, %d frames of synth's benchmark preset (seed %llu), %d "
-      "detector thread(s); rendering took %.1f s, tracking %.1f s\n\n",
+      "\n### %s, %d frames of synth's benchmark preset (seed %llu, %s "
+      "floor), %d detector thread(s); rendering took %.1f s, tracking %.1f "
+      "s\n\n",
       size.c_str(), options.frames,
-      static_cast<unsigned long long>(options.seed), options.threads,
-      result.render_s, result.tracking_s);
+      static_cast<unsigned long long>(options.seed),
+      synth::ToString(options.floor.kind()), options.threads, result.render_s,
+      result.tracking_s);
   out += buf;
   out +=
       "| # | setting | ms/frame | tank rot ° med / p95 | tank mm med / p95 | "

@@ -19,6 +19,7 @@
 
 #include "tracking/camera.h"
 #include "tracking/rig.h"
+#include "tracking/synth/floor_pattern.h"
 #include "tracking/tracker.h"
 
 namespace ripple::bench {
@@ -63,6 +64,7 @@ struct TrackingBenchOptions {
   int first = 0;     // frames before this are neither rendered nor tracked
   int threads = 1;   // detector threads
   uint64_t seed = 1;
+  synth::FloorPattern floor;  // the tank floor drawn in the frames
 };
 
 // Per-frame errors of one setting: a row of the frames CSV.

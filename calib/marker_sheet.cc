@@ -59,10 +59,11 @@ bool PlaceBox(const Sheet& sheet, const std::vector<Box>& occupied, double w,
 }
 
 // 100 mm scale bar (ten 10 mm blocks) with its caption; horizontal or
-// vertical. Adds its shapes and its box to `occupied`. False if it fits
-// nowhere.
+// vertical. Adds its shapes and its box to `occupied`; `white_ground` paints
+// the box white first (when it has to sit on the printed floor). False if it
+// fits nowhere.
 bool AddScaleBar(Sheet* sheet, std::vector<Box>* occupied,
-                 const Vector2d& prefer) {
+                 const Vector2d& prefer, bool white_ground = false) {
   const double len = 100 * kMm, bar = 2.5 * kMm;
   const std::string caption = "100 mm - check with a ruler: print at 100 %";
   const double depth = bar + 1.0 * kMm + kLabelSize;
@@ -71,6 +72,10 @@ bool AddScaleBar(Sheet* sheet, std::vector<Box>* occupied,
     Box b;
     if (!PlaceBox(*sheet, *occupied, w, h, prefer, &b)) continue;
     const Vector2d o = b.min();
+    if (white_ground) {
+      const Vector2d pad(1.0 * kMm, 1.0 * kMm);
+      sheet->white_boxes.push_back(Box(b.min() - pad, b.max() + pad));
+    }
     for (int i = 0; i < 10; ++i) {
       const double s = i * 10 * kMm, e = (i + 1) * 10 * kMm;
       const Box block = vertical
@@ -135,6 +140,19 @@ Vector3d NetFace::PenPoint(const Vector2d& on_sheet) const {
 
 bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
                     Sheet* sheet, std::string* error) {
+  return MakeBoardSheet(rig, paper, synth::FloorPattern(), sheet, error);
+}
+
+bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
+                    const synth::FloorPattern& floor, Sheet* sheet,
+                    std::string* error) {
+  if (floor.kind() != synth::FloorKind::kPlain &&
+      !(std::abs(floor.rect().sizes().x() - rig.tank.size_x_m) < 1e-9 &&
+        std::abs(floor.rect().sizes().y() - rig.tank.size_y_m) < 1e-9 &&
+        floor.rect().center().norm() < 1e-9)) {
+    *error = "the floor pattern was not made for this rig's tank";
+    return false;
+  }
   FamilyInfo f;
   if (!GetFamily(rig.family, &f, error)) return false;
   if (rig.tank_tags.empty()) {
@@ -154,6 +172,11 @@ bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
       Eigen::Vector3d(1, -1, -1).asDiagonal();
   std::vector<Box> occupied;
   Box all;
+  const Box page(
+      Vector2d(kSheetMargin, kSheetMargin),
+      Vector2d(sheet->width_m - kSheetMargin, sheet->height_m - kSheetMargin));
+  const double hx = 0.5 * rig.tank.size_x_m, hy = 0.5 * rig.tank.size_y_m;
+  const Box tank_box = BoxOf({to_sheet({-hx, hy, 0}), to_sheet({hx, -hy, 0})});
   for (const tracking::TagPlacement& t : rig.tank_tags) {
     const Eigen::Matrix3d r = page_from_tank * t.object_from_tag.R();
     if (r(2, 2) < std::cos(1.0 * M_PI / 180) ||
@@ -167,13 +190,21 @@ bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
     tag.edge_m = t.edge_m;
     tag.centre_m = to_sheet(t.object_from_tag.translation);
     tag.angle_rad = std::atan2(r(1, 0), r(0, 0));
+    // The id label goes below the tag image, or beside it (above it last:
+    // the title needs the page's top edge) when that would print it over
+    // the tank floor.
+    for (const Vector2d& d :
+         {Vector2d(0, 1), Vector2d(1, 0), Vector2d(-1, 0), Vector2d(0, -1)}) {
+      tag.label_dir = d;
+      const Box b = TagBox(tag, f);
+      if (page.contains(b) && !(hx > 0 && hy > 0 && b.intersects(tank_box)))
+        break;
+      tag.label_dir = Vector2d(0, 1);
+    }
     sheet->tags.push_back(tag);
     occupied.push_back(TagBox(tag, f));
     all.extend(occupied.back());
   }
-  const Box page(
-      Vector2d(kSheetMargin, kSheetMargin),
-      Vector2d(sheet->width_m - kSheetMargin, sheet->height_m - kSheetMargin));
   if (!page.contains(all)) {
     *error = "the board (" + Millimetres(all.sizes().x()) + " x " +
              Millimetres(all.sizes().y()) +
@@ -182,15 +213,15 @@ bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
              Millimetres(page.sizes().y()) + " mm printable)";
     return false;
   }
-  // Tank outline (a guide for where the water will appear).
-  const double hx = 0.5 * rig.tank.size_x_m, hy = 0.5 * rig.tank.size_y_m;
+  sheet->floor = floor;
+  sheet->tank_origin_m = centre;
+  // Tank outline (a guide for where the water will appear); the scale bar
+  // and the title keep off the floor inside it.
   if (hx > 0 && hy > 0) {
     const Vector2d c[4] = {to_sheet({-hx, hy, 0}), to_sheet({hx, hy, 0}),
                            to_sheet({hx, -hy, 0}), to_sheet({-hx, -hy, 0})};
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < 4; ++k)
       sheet->lines.push_back({c[k], c[(k + 1) % 4], SheetLine::Style::kGuide});
-      occupied.push_back(BoxOf({c[k], c[(k + 1) % 4]}));
-    }
   }
   // Check points for `ripple calib check`.
   for (const CheckPoint& p : BoardCheckPoints(rig)) {
@@ -208,9 +239,20 @@ bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
   }
   sheet->title =
       "Ripple tank board (" + rig.family + ") - " + paper.name + " landscape";
-  if (!AddScaleBar(sheet, &occupied, Vector2d(centre.x(), sheet->height_m))) {
-    *error = "no room for the 100 mm scale bar on " + paper.name;
-    return false;
+  // The scale bar off the floor where there is room (A4), else on a white
+  // ground over it (Letter's narrower page).
+  const Vector2d bar_at(centre.x(), sheet->height_m);
+  std::vector<Box> off_floor = occupied;
+  if (hx > 0 && hy > 0) off_floor.push_back(tank_box);
+  if (AddScaleBar(sheet, &off_floor, bar_at)) {
+    occupied = off_floor;
+  } else {
+    const bool on_floor = floor.kind() != synth::FloorKind::kPlain;
+    if (!AddScaleBar(sheet, &occupied, bar_at, on_floor)) {
+      *error = "no room for the 100 mm scale bar on " + paper.name;
+      return false;
+    }
+    if (hx > 0 && hy > 0) occupied.push_back(tank_box);
   }
   AddFreeText(sheet, &occupied,
               sheet->title + " - print at 100 % (no fit to page)", kLabelSize,

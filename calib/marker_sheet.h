@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "tracking/rig.h"
+#include "tracking/synth/floor_pattern.h"
 
 namespace ripple::calib {
 
@@ -68,9 +69,18 @@ struct Sheet {
   double width_m = 0, height_m = 0;  // the page as printed
   std::vector<SheetTag> tags;
   std::vector<Eigen::AlignedBox2d> black_boxes;  // filled (chessboard)
+  // Filled white over the floor: the scale bar's ground when it has to sit
+  // on the printed floor.
+  std::vector<Eigen::AlignedBox2d> white_boxes;
   std::vector<SheetLine> lines;
   std::vector<SheetText> texts;
   std::vector<SheetCircle> circles;
+  // The tank floor, printed under everything else (tags keep their white
+  // margin over it): the pattern in the tank frame and the sheet point of
+  // the tank origin (tank x to the right, tank y up the page). Plain paper
+  // prints nothing.
+  synth::FloorPattern floor;
+  Eigen::Vector2d tank_origin_m = Eigen::Vector2d::Zero();
 };
 
 // One face of the folded cube net: where it lies on the sheet and how the
@@ -93,9 +103,15 @@ inline constexpr double kSheetMargin = 0.006;
 
 // Board sheet (landscape): the rig's tank tags at their places (the board
 // centre at the page centre, tank x to the right, tank y up the page), the
-// tank outline, the check points (calib/tip_check.h), a 100 mm scale bar.
-// False with `error` when a tag is not flat on the board or the board does
-// not fit the paper.
+// floor pattern inside the tank outline, the check points
+// (calib/tip_check.h), a 100 mm scale bar. `floor` is made for the rig's
+// tank (synth::FloorPattern::Create(options, rig.tank, ...)). False with
+// `error` when a tag is not flat on the board, the board does not fit the
+// paper or the floor is not the tank's size.
+bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
+                    const synth::FloorPattern& floor, Sheet* sheet,
+                    std::string* error);
+// The same with a plain (blank paper) floor.
 bool MakeBoardSheet(const tracking::Rig& rig, const PaperSize& paper,
                     Sheet* sheet, std::string* error);
 

@@ -4,6 +4,7 @@
 #include <cairo-svg.h>
 #include <cairo.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -24,14 +25,97 @@ using sheet::GetFamily;
 using sheet::kMm;
 using sheet::TagLabel;
 
+// sRGB encoding (IEC 61966-2-1) of a linear value in [0, 1].
+double LinearToSrgb(double c) {
+  c = std::clamp(c, 0.0, 1.0);
+  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1 / 2.4) - 0.055;
+}
+
+// The device colour that prints `albedo` on paper of reflectance kPaperBgr
+// (the page's white is the paper itself).
+void SetAlbedo(cairo_t* cr, const cv::Vec3f& albedo_bgr) {
+  const cv::Vec3f& paper = synth::kPaperBgr;
+  cairo_set_source_rgb(cr, LinearToSrgb(albedo_bgr[2] / paper[2]),
+                       LinearToSrgb(albedo_bgr[1] / paper[1]),
+                       LinearToSrgb(albedo_bgr[0] / paper[0]));
+}
+
+// The floor pattern inside the tank outline: tiles as vector rectangles,
+// an image as an image pattern stretched over the floor.
+void DrawFloor(cairo_t* cr, const Sheet& sheet) {
+  const synth::FloorPattern& floor = sheet.floor;
+  const Vector2d o = sheet.tank_origin_m;
+  // Tank (x, y) -> sheet (o.x + x, o.y - y): a tank box's top-left on the
+  // page is its (min x, max y) corner.
+  auto fill_box = [&](const Eigen::AlignedBox2d& b) {
+    cairo_rectangle(cr, o.x() + b.min().x(), o.y() - b.max().y(), b.sizes().x(),
+                    b.sizes().y());
+    cairo_fill(cr);
+  };
+  if (floor.kind() == synth::FloorKind::kTiles) {
+    for (const synth::FloorPattern::Cell& cell : floor.TileCells()) {
+      SetAlbedo(cr, cell.bgr);
+      fill_box(cell.rect);
+    }
+  } else if (floor.kind() == synth::FloorKind::kImage) {
+    const cv::Mat& img = floor.image_bgr8();
+    if (img.empty()) return;
+    // The surface owns its pixels (the PDF and SVG surfaces may read them
+    // when the page is finished). CAIRO_FORMAT_RGB24 is one native-endian
+    // 32-bit word per pixel, x R G B from the high byte down.
+    cairo_surface_t* s =
+        cairo_image_surface_create(CAIRO_FORMAT_RGB24, img.cols, img.rows);
+    cairo_surface_flush(s);
+    unsigned char* data = cairo_image_surface_get_data(s);
+    const int stride = cairo_image_surface_get_stride(s);
+    for (int r = 0; r < img.rows; ++r) {
+      uint32_t* row = reinterpret_cast<uint32_t*>(data + size_t(r) * stride);
+      for (int c = 0; c < img.cols; ++c) {
+        const cv::Vec3b p = img.at<cv::Vec3b>(r, c);
+        row[c] =
+            (uint32_t(p[2]) << 16) | (uint32_t(p[1]) << 8) | uint32_t(p[0]);
+      }
+    }
+    cairo_surface_mark_dirty(s);
+    const Eigen::AlignedBox2d& b = floor.rect();
+    cairo_save(cr);
+    cairo_translate(cr, o.x() + b.min().x(), o.y() - b.max().y());
+    cairo_scale(cr, b.sizes().x() / img.cols, b.sizes().y() / img.rows);
+    cairo_set_source_surface(cr, s, 0, 0);
+    cairo_pattern_set_filter(cairo_get_source(cr), CAIRO_FILTER_GOOD);
+    cairo_pattern_set_extend(cairo_get_source(cr), CAIRO_EXTEND_PAD);
+    cairo_rectangle(cr, 0, 0, img.cols, img.rows);
+    cairo_fill(cr);
+    cairo_restore(cr);
+    cairo_surface_destroy(s);
+  }
+}
+
 void Draw(cairo_t* cr, const Sheet& sheet, const tracking::TagFamily& family,
           const FamilyInfo& f) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_rectangle(cr, 0, 0, sheet.width_m, sheet.height_m);
   cairo_fill(cr);
-  cairo_set_source_rgb(cr, 0, 0, 0);
-  // Tags: every black cell of the family's bitmap, one path per tag so that
+  DrawFloor(cr, sheet);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  for (const Box& b : sheet.white_boxes) {
+    cairo_rectangle(cr, b.min().x(), b.min().y(), b.sizes().x(), b.sizes().y());
+    cairo_fill(cr);
+  }
+  // Tags: their white margin (over the floor where they reach it), then
+  // every black cell of the family's bitmap, one path per tag so that
   // neighbouring cells leave no seams.
+  for (const SheetTag& tag : sheet.tags) {
+    const double half = 0.5 * f.total * tag.edge_m / f.border;
+    cairo_save(cr);
+    cairo_translate(cr, tag.centre_m.x(), tag.centre_m.y());
+    cairo_rotate(cr, tag.angle_rad);
+    cairo_set_source_rgb(cr, 1, 1, 1);
+    cairo_rectangle(cr, -half, -half, 2 * half, 2 * half);
+    cairo_fill(cr);
+    cairo_restore(cr);
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
   for (const SheetTag& tag : sheet.tags) {
     auto bitmap = tracking::MakeTagBitmap(family, tag.id);
     if (!bitmap) continue;

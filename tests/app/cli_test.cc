@@ -5,6 +5,7 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -98,6 +99,53 @@ TEST(CliTest, SynthWritesFramesFilesAndIsDeterministic) {
   const std::string csv = ReadAll(a + "/groundtruth.csv");
   EXPECT_THAT(csv, HasSubstr("0,0.000000,tank,tracked,"));
   EXPECT_THAT(csv, HasSubstr("0,0.000000,pen,tracked,"));
+}
+
+// Every command that draws the board takes the same --floor: bad names and
+// unreadable images are one line and exit code 2, before any work starts.
+TEST(CliTest, FloorOptionIsCheckedTheSameEverywhere) {
+  const std::string dir = Temp("floor");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir + "/text.png") << "not an image";
+  for (const std::string command :
+       {"markers --out " + dir + "/m", "synth --frames 1 --out " + dir + "/s",
+        "demo --frames 10 --idle-frames 1 --out " + dir + "/d",
+        "bench tracking --frames 1 --sizes 64x48 --out " + dir + "/b"}) {
+    auto r = RunRipple(command + " --floor tile");
+    EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr("--floor")) << command;
+    EXPECT_THAT(r.output, HasSubstr("expected plain, tiles or an image file"))
+        << command;
+    for (const std::string& bad : {dir + "/missing.png", dir + "/text.png"}) {
+      r = RunRipple(command + " --floor " + bad);
+      EXPECT_EQ(r.exit_code, 2) << command << "\n" << r.output;
+      EXPECT_THAT(r.output, HasSubstr("ripple: --floor: floor image '" + bad))
+          << command;
+      EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+          << r.output;
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/s/groundtruth.csv"));
+}
+
+TEST(CliTest, SynthDrawsTheChosenFloor) {
+  const std::string dir = Temp("synth_floor");
+  for (const char* floor : {"plain", "tiles"}) {
+    const auto r = RunRipple("synth --out " + dir + "/" + floor +
+                             " --frames 1 --size 320x240 --preset clean "
+                             "--floor " +
+                             floor);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_THAT(r.output, HasSubstr(std::string(floor) + " floor"));
+  }
+  // The default is tiles.
+  const auto r = RunRipple("synth --out " + dir +
+                           "/default --frames 1 --size "
+                           "320x240 --preset clean");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string frame = "/frames/000000.png";
+  EXPECT_EQ(ReadAll(dir + "/default" + frame), ReadAll(dir + "/tiles" + frame));
+  EXPECT_NE(ReadAll(dir + "/plain" + frame), ReadAll(dir + "/tiles" + frame));
 }
 
 }  // namespace

@@ -1,8 +1,10 @@
 // Where the tracker's time goes, on frames of synth's benchmark preset at
 // 640x480 (one thread): full-frame detection with and without Ripple's edge
 // fit, bare libapriltag, and the whole tracker with and without region
-// search. `ripple bench tracking` measures time against error over 500+
-// frames; this benchmark splits the time into its parts.
+// search; on the plain floor, and on the tiled floor (`floor:1`), whose grout
+// grid the detector segments and rejects. `ripple bench tracking` measures time
+// against error over 500+ frames; this benchmark splits the time into its
+// parts.
 //
 //   build/tests/tracking/tracking_tracking_benchmark
 //   --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
@@ -31,9 +33,14 @@ struct Frames {
   std::vector<double> time_s;
 };
 
-// 100 frames: two 50-frame segments (smooth motion, one cut).
-const Frames& BenchmarkFrames() {
-  static const Frames* frames = [] {
+// 100 frames: two 50-frame segments (smooth motion, one cut), on the plain
+// floor or on the tiled one.
+const Frames& BenchmarkFrames(bool tiles = false) {
+  static const Frames* plain_frames = nullptr;
+  static const Frames* tiled_frames = nullptr;
+  const Frames*& frames = tiles ? tiled_frames : plain_frames;
+  if (frames) return *frames;
+  frames = [tiles] {
     auto* f = new Frames;
     std::string error;
     auto camera = LoadCamera(
@@ -50,7 +57,13 @@ const Frames& BenchmarkFrames() {
     std::vector<synth::FrameSpec> specs;
     RIPPLE_CHECK(synth::MakeSequence(f->camera, f->rig, seq, &specs, &error),
                  error);
-    synth::SceneRenderer renderer(f->camera, f->rig);
+    synth::FloorOptions floor_options;
+    floor_options.kind =
+        tiles ? synth::FloorKind::kTiles : synth::FloorKind::kPlain;
+    auto floor =
+        synth::FloorPattern::Create(floor_options, f->rig.tank, &error);
+    RIPPLE_CHECK(floor.has_value(), error);
+    synth::SceneRenderer renderer(f->camera, f->rig, *floor);
     for (const synth::FrameSpec& spec : specs) {
       const synth::RenderedFrame frame =
           renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
@@ -65,7 +78,7 @@ const Frames& BenchmarkFrames() {
 }
 
 void BM_DetectFullFrame(benchmark::State& state) {
-  const Frames& f = BenchmarkFrames();
+  const Frames& f = BenchmarkFrames(state.range(1) != 0);
   TagDetectorOptions options;
   options.family = f.rig.family;
   options.edge_fit = state.range(0) != 0;
@@ -78,15 +91,17 @@ void BM_DetectFullFrame(benchmark::State& state) {
   state.counters["tags/frame"] = double(tags) / i;
 }
 BENCHMARK(BM_DetectFullFrame)
-    ->ArgName("edge_fit")
-    ->Arg(0)
-    ->Arg(1)
+    ->ArgNames({"edge_fit", "floor"})
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({1, 1})
     ->Unit(benchmark::kMillisecond);
 
 // libapriltag alone on the whole frame, decimate 2, refine_edges on, with
-// min_white_black_diff = range(0) and quad_sigma = range(1) / 10.
+// min_white_black_diff = range(0) and quad_sigma = range(1) / 10, on the
+// tiled floor when range(2).
 void BM_LibapriltagFullFrame(benchmark::State& state) {
-  const Frames& f = BenchmarkFrames();
+  const Frames& f = BenchmarkFrames(state.range(2) != 0);
   auto family = TagFamily::Create(f.rig.family);
   apriltag_detector_t* td = apriltag_detector_create();
   apriltag_detector_add_family_bits(td, family->get(), 1);
@@ -113,17 +128,18 @@ void BM_LibapriltagFullFrame(benchmark::State& state) {
   apriltag_detector_destroy(td);
 }
 BENCHMARK(BM_LibapriltagFullFrame)
-    ->ArgNames({"min_wb_diff", "sigma_x10"})
-    ->Args({5, 0})
-    ->Args({20, 0})
-    ->Args({40, 0})
-    ->Args({5, 8})
-    ->Args({20, 8})
+    ->ArgNames({"min_wb_diff", "sigma_x10", "floor"})
+    ->Args({5, 0, 0})
+    ->Args({20, 0, 0})
+    ->Args({40, 0, 0})
+    ->Args({5, 8, 0})
+    ->Args({20, 8, 0})
+    ->Args({5, 0, 1})
     ->Unit(benchmark::kMillisecond);
 
 // The whole tracker over the sequence (detection, pose, temporal logic).
 void BM_Track(benchmark::State& state) {
-  const Frames& f = BenchmarkFrames();
+  const Frames& f = BenchmarkFrames(state.range(2) != 0);
   TrackerOptions options;
   options.roi.enabled = state.range(0) != 0;
   options.pen_dense.enabled = state.range(1) != 0;
@@ -146,10 +162,11 @@ void BM_Track(benchmark::State& state) {
   state.counters["full_share"] = double(full) / i;
 }
 BENCHMARK(BM_Track)
-    ->ArgNames({"roi", "dense"})
-    ->Args({0, 1})
-    ->Args({1, 1})
-    ->Args({1, 0})
+    ->ArgNames({"roi", "dense", "floor"})
+    ->Args({0, 1, 0})
+    ->Args({1, 1, 0})
+    ->Args({1, 0, 0})
+    ->Args({1, 1, 1})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -12,9 +12,6 @@
 
 namespace ripple::synth {
 
-const cv::Vec3f kPaperBgr(0.88f, 0.88f, 0.86f);
-const cv::Vec3f kInkBgr(0.05f, 0.05f, 0.05f);
-
 namespace {
 
 using Eigen::Vector2d;
@@ -23,7 +20,7 @@ using Eigen::Vector3d;
 // Reflectances (linear BGR) of the materials in the scene.
 const cv::Vec3f& kPaper = kPaperBgr;
 const cv::Vec3f& kInk = kInkBgr;
-const cv::Vec3f kTable(0.22f, 0.33f, 0.45f);
+const cv::Vec3f& kTable = kTableBgr;
 const cv::Vec3f kCube(0.80f, 0.80f, 0.78f);
 const cv::Vec3f kShaft(0.16f, 0.14f, 0.12f);
 // Light direction in the tank frame (from the surface toward the light).
@@ -46,13 +43,15 @@ struct TagCells {
 
 // What a planar layer paints in its own frame's z = 0 plane: a rectangle of
 // `base` colour (optionally over an infinite `outside` colour) and a tag's
-// black cells on top.
+// black cells on top, or the floor pattern (in the tank frame) over its own
+// rectangle.
 struct PlanarLayer {
   Pose cam_from_plane;
   CellRect rect{0, 0, 0, 0};
   bool infinite = false;  // paint `outside` everywhere else too
   cv::Vec3f base, outside;
   const TagCells* tag = nullptr;
+  const FloorPattern* floor = nullptr;
   // Illumination: a constant, or the board's soft spotlight when `board`.
   float shade = 1.0f;
   bool board = false;
@@ -151,6 +150,17 @@ float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
     if (qx0 >= x0 && qx1 <= x1 && qy0 >= y0 && qy1 <= y1) return area;
     return QuadRectMappedArea(quad, x0, y0, x1, y1, h);
   };
+  if (layer.floor) {
+    // Image texels no smaller than the pixel's footprint: at most 2 x 2 of
+    // them under a pixel, each integrated exactly.
+    double covered = 0;
+    const cv::Vec3d sum = layer.floor->Integrate(
+        Eigen::AlignedBox2d(Vector2d(qx0, qy0), Vector2d(qx1, qy1)),
+        std::max(qx1 - qx0, qy1 - qy0), covered_area, &covered);
+    if (covered <= 0) return 0.0f;
+    *value = cv::Vec3f(sum * (1.0 / area));
+    return static_cast<float>(std::min(1.0, covered / area));
+  }
   const double inside = covered_area(r.x0, r.y0, r.x1, r.y1);
   double covered = inside;
   cv::Vec3d sum = cv::Vec3d(layer.base) * inside;
@@ -188,8 +198,8 @@ float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
 }  // namespace
 
 SceneRenderer::SceneRenderer(const tracking::Camera& camera,
-                             const tracking::Rig& rig)
-    : camera_(camera), rig_(rig) {
+                             const tracking::Rig& rig, FloorPattern floor)
+    : camera_(camera), rig_(rig), floor_(std::move(floor)) {
   auto impl = std::make_shared<Impl>();
   impl->width = camera.width;
   impl->height = camera.height;
@@ -202,25 +212,12 @@ SceneRenderer::SceneRenderer(const tracking::Camera& camera,
             camera.UndistortToNormalized(Vector2d(u - 0.5, v - 0.5));
   });
   const auto family = tracking::TagFamily::Create(rig.family);
-  double x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;
-  for (const tracking::TagPlacement& t : rig.tank_tags) {
+  for (const tracking::TagPlacement& t : rig.tank_tags)
     impl->tank_tags.push_back(family ? MakeTagCells(*family, t.id, t.edge_m)
                                      : TagCells{});
-    for (int k = 0; k < 4; ++k) {
-      const Vector3d c = t.CornerInObject(k);
-      x0 = std::min(x0, c.x());
-      y0 = std::min(y0, c.y());
-      x1 = std::max(x1, c.x());
-      y1 = std::max(y1, c.y());
-    }
-  }
-  // The printed sheet: the tags' extent plus a 20 mm paper margin, and at
-  // least the tank.
-  x0 = std::min(x0, -0.5 * rig.tank.size_x_m) - 0.02;
-  x1 = std::max(x1, 0.5 * rig.tank.size_x_m) + 0.02;
-  y0 = std::min(y0, -0.5 * rig.tank.size_y_m) - 0.02;
-  y1 = std::max(y1, 0.5 * rig.tank.size_y_m) + 0.02;
-  impl->sheet = {x0, y0, x1, y1};
+  const Eigen::AlignedBox2d sheet = BoardSheetRect(rig);
+  impl->sheet = {sheet.min().x(), sheet.min().y(), sheet.max().x(),
+                 sheet.max().y()};
   if (rig.pen) {
     for (const tracking::TagPlacement& t : rig.pen->faces)
       impl->pen_tags.push_back(family ? MakeTagCells(*family, t.id, t.edge_m)
@@ -307,6 +304,16 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     it.layer.infinite = true;
     it.layer.base = kPaper;
     it.layer.outside = kTable;
+    it.layer.board = true;
+    items.push_back(it);
+  }
+  // 1b. The floor pattern inside the tank outline (plain paper adds nothing).
+  if (floor_.kind() != FloorKind::kPlain && !floor_.rect().isEmpty()) {
+    DrawItem it;
+    it.layer.cam_from_plane = scene.cam_from_tank;
+    const Eigen::AlignedBox2d& f = floor_.rect();
+    it.layer.rect = {f.min().x(), f.min().y(), f.max().x(), f.max().y()};
+    it.layer.floor = &floor_;
     it.layer.board = true;
     items.push_back(it);
   }

@@ -1,5 +1,6 @@
-// Ground-truth frames: a CPU renderer of the tank board, the pen (cube with
-// tagged faces and its shaft) and a hand-like occluder through the full
+// Ground-truth frames: a CPU renderer of the tank board (paper, tags and the
+// printed floor pattern of floor_pattern.h), the pen (cube with tagged faces
+// and its shaft) and a hand-like occluder through the full
 // camera model (lens distortion included), with area-correct edges, plus the
 // imaging effects of a real webcam and scripted motion. Used by `ripple
 // synth`, the tracking tests and benchmarks, and the demo.
@@ -16,14 +17,11 @@
 #include "tracking/camera.h"
 #include "tracking/pose.h"
 #include "tracking/rig.h"
+#include "tracking/synth/floor_pattern.h"
 
 namespace ripple::synth {
 
 using tracking::Pose;
-
-// Linear reflectances (BGR, 0..1) of the printed paper and of the tag ink.
-extern const cv::Vec3f kPaperBgr;
-extern const cv::Vec3f kInkBgr;
 
 // A flat occluder standing in for a hand: a polygon (metres, in its own
 // plane z = 0) at a pose in the camera frame, drawn in front of everything.
@@ -65,7 +63,10 @@ struct RenderedFrame {
 // Renders scenes for one camera and rig. Thread-compatible.
 class SceneRenderer {
  public:
-  SceneRenderer(const tracking::Camera& camera, const tracking::Rig& rig);
+  // `floor` is drawn inside the tank outline with exact area coverage (the
+  // default, plain paper, draws nothing there).
+  SceneRenderer(const tracking::Camera& camera, const tracking::Rig& rig,
+                FloorPattern floor = FloorPattern());
   // Exact render (no imaging effects), linear BGR in [0, 1], CV_32FC3.
   cv::Mat RenderLinear(const SceneState& scene) const;
   // Full frame: exact render, imaging effects with noise drawn from `seed`.
@@ -80,6 +81,7 @@ class SceneRenderer {
   struct Impl;
   tracking::Camera camera_;
   tracking::Rig rig_;
+  FloorPattern floor_;
   std::shared_ptr<const Impl> impl_;
 };
 

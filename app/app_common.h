@@ -25,6 +25,10 @@ std::optional<tracking::Rig> LoadRigOrReport(const std::string& path);
 // Creates `dir` (and parents); false with a message on failure.
 bool MakeDirectories(const std::string& dir, std::string* error);
 
+// NumPy's .npy format, version 1.0: float32 little-endian, C order,
+// shape (ny, nx). False if the file cannot be written whole.
+bool WriteNpy(const std::string& path, const float* data, int ny, int nx);
+
 }  // namespace ripple::app
 
 #endif  // RIPPLE_APP_APP_COMMON_H_

@@ -1,0 +1,52 @@
+// The canonical scenes of `ripple bench render`: the rig's tank under a
+// stated light, seen by a stated camera, with a stated water surface, floor,
+// pen and obstacles, as the physically based reference takes them
+// (render/reference/reference.h). The real-time renderer gets the same
+// SceneInputs and, as its video, the reference's dry render through the
+// lens.
+#ifndef RIPPLE_APP_APP_RENDER_SCENES_H_
+#define RIPPLE_APP_APP_RENDER_SCENES_H_
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "render/reference/reference.h"
+#include "tracking/camera.h"
+#include "tracking/rig.h"
+#include "tracking/synth/floor_pattern.h"
+
+namespace ripple::app {
+
+struct RenderBenchScene {
+  std::string name;         // file-name safe
+  std::string description;  // one line
+  reference::ReferenceScene scene;
+  // Storage behind scene.scene.water (nx * ny floats, metres).
+  std::shared_ptr<std::vector<float>> heights;
+};
+
+struct RenderScenesOptions {
+  int width = 640, height = 480;  // pixels
+  // Board albedo texels per metre (0.25 mm texels by default).
+  double board_px_per_m = 4000;
+};
+
+// Builds every canonical scene for `camera` (its intrinsics, scaled to the
+// options' size; distortion is dropped except in the lens scene) and `rig`
+// (tank, pen, obstacles, board tags): flat, ring (0.4 mm, 8 mm), three
+// frames of the demo's water (the demo script driving the default water
+// model), tiled floor, shadowed pen, grazing view, distorting lens. False
+// with `error` on a rig without a tank or pen, or a failing water model.
+bool MakeRenderScenes(const RenderScenesOptions& options,
+                      const tracking::Camera& camera, const tracking::Rig& rig,
+                      std::vector<RenderBenchScene>* scenes,
+                      std::string* error);
+
+// Pixels (CV_8U, 255) whose ideal-pinhole ray meets the water's rest plane
+// inside the tank: where FLIP is averaged.
+cv::Mat WaterMask(const reference::ReferenceScene& scene);
+
+}  // namespace ripple::app
+
+#endif  // RIPPLE_APP_APP_RENDER_SCENES_H_

@@ -1,0 +1,387 @@
+// `ripple bench render`: the canonical scenes (app/app_render_scenes.h)
+// through the real-time renderer and the physically based reference
+// (render/reference), compared by LDR-FLIP (bench/flip.h) inside the water,
+// with each effect turned off in turn (what each effect buys), and the
+// real-time passes' times. Prints the table, writes bench_render.csv and one
+// PNG per scene (reference | real-time | FLIP map); --export writes every
+// scene's inputs in renderer-neutral files (docs/render.md, "Render
+// benchmark").
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "app/app_bench.h"
+#include "app/app_common.h"
+#include "app/app_render_scenes.h"
+#include "app/app_wxh.h"
+#include "bench/flip.h"
+#include "bench/stats.h"
+#include "render/context.h"
+#include "render/renderer.h"
+
+namespace ripple::app {
+namespace {
+
+struct RenderBenchArgs {
+  std::string out = "bench_render";
+  std::string camera = DefaultCameraPath();
+  std::string rig = DefaultRigPath();
+  std::string size = "640x480";
+  std::string gl = "egl";
+  std::vector<std::string> scenes;  // empty: all
+  std::string export_dir;
+  int samples_per_pixel = 16;
+  int light_paths_per_texel = 64;
+  int timing_frames = 15;
+};
+
+// The effects whose contribution is measured, as `Effects` members.
+struct EffectSwitch {
+  const char* name;
+  bool render::Effects::*flag;
+};
+constexpr EffectSwitch kEffects[] = {
+    {"reflection", &render::Effects::reflection},
+    {"refraction", &render::Effects::refraction},
+    {"shadows", &render::Effects::shadows},
+    {"caustics", &render::Effects::caustics},
+    {"walls", &render::Effects::walls},
+};
+constexpr int kNumEffects = sizeof(kEffects) / sizeof(kEffects[0]);
+
+// The display's encoding of the reference's linear radiance: the same
+// highlight shoulder as the real-time output, then sRGB.
+cv::Mat EncodeLikeTheDisplay(const cv::Mat& linear, double knee) {
+  cv::Mat out(linear.size(), CV_8UC3);
+  for (int y = 0; y < linear.rows; ++y) {
+    for (int x = 0; x < linear.cols; ++x) {
+      const cv::Vec3f& l = linear.at<cv::Vec3f>(y, x);
+      cv::Vec3b& o = out.at<cv::Vec3b>(y, x);
+      for (int c = 0; c < 3; ++c) {
+        const double s = render::LinearToSrgb(
+            render::HighlightShoulder(std::max(0.0f, l[c]), knee));
+        o[c] = cv::saturate_cast<std::uint8_t>(std::lround(255.0 * s));
+      }
+    }
+  }
+  return out;
+}
+
+struct SceneResult {
+  double flip = 0;
+  double flip_off[kNumEffects] = {};
+  double main_ms = 0, caustics_ms = 0, shadow_ms = 0;
+  double reference_s = 0;
+  int water_pixels = 0;
+};
+
+cv::Mat RenderRealTime(render::Renderer* r, const render::SceneInputs& in) {
+  cv::Mat out(r->intrinsics().height, r->intrinsics().width, CV_8UC3);
+  if (!r->Render(in) || !r->ReadBgr(out.data, static_cast<int>(out.step)))
+    return {};
+  return out;
+}
+
+bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
+                     const render::RendererOptions& ro, const cv::Mat& video,
+                     const cv::Mat& reference, const cv::Mat& realtime,
+                     std::string* error) {
+  if (!MakeDirectories(dir, error)) return false;
+  const reference::ReferenceScene& r = s.scene;
+  const render::SceneInputs& in = r.scene;
+  tracking::Camera cam = r.camera;
+  if (!tracking::SaveCamera(cam, dir + "/camera.yml", error)) return false;
+  const render::HeightFieldView& w = in.water;
+  if (w.heights != nullptr &&
+      !WriteNpy(dir + "/heights.npy", w.heights, w.ny, w.nx)) {
+    *error = "cannot write '" + dir + "/heights.npy'";
+    return false;
+  }
+  cv::Mat albedo8;
+  r.floor_albedo.convertTo(albedo8, CV_16UC3, 65535.0);
+  bool ok = cv::imwrite(dir + "/video.png", video) &&
+            cv::imwrite(dir + "/floor_albedo.png", albedo8) &&
+            cv::imwrite(dir + "/reference.png", reference) &&
+            cv::imwrite(dir + "/realtime.png", realtime);
+  std::ofstream y(dir + "/scene.yml");
+  auto mat = [&](const char* key, const glm::dmat4& m) {
+    y << key << ": [";
+    for (int row = 0; row < 4; ++row)
+      for (int col = 0; col < 4; ++col)
+        y << m[col][row] << (row == 3 && col == 3 ? "]\n" : ", ");
+  };
+  y << "# Ripple render-benchmark scene: " << s.description << "\n"
+    << "# Frames: tank (origin at the tank centre, z up, floor z = 0) and\n"
+    << "# OpenCV's camera frame; metres, 4x4 matrices row-major.\n"
+    << "name: " << s.name << "\n";
+  mat("cam_from_tank", in.cam_from_tank);
+  y << "tank: {size_x: " << in.tank.size_x << ", size_y: " << in.tank.size_y
+    << ", wall_height: " << in.tank.wall_height
+    << ", water_level: " << in.tank.water_level
+    << ", glass_thickness: " << r.glass_thickness_m << "}\n"
+    << "heights: "
+    << (w.heights ? "{file: heights.npy, nx: " + std::to_string(w.nx) +
+                        ", ny: " + std::to_string(w.ny) +
+                        ", cell_size: " + std::to_string(w.cell_size) + "}"
+                  : std::string("flat"))
+    << "  # metres above the rest level, cell (i, j) centred at\n"
+    << "  # ((i + 0.5 - nx/2) d, (j + 0.5 - ny/2) d)\n"
+    << "light: {towards: [" << in.light_in_tank.x << ", " << in.light_in_tank.y
+    << ", " << in.light_in_tank.z << "], angular_radius_rad: "
+    << r.light_angular_radius_rad << ", ambient_share: " << r.ambient_share
+    << "}\n"
+    << "optics: {water_ior: " << r.water_ior << ", glass_ior: " << r.glass_ior
+    << ", absorption_per_m_bgr: [" << r.absorption_per_m[0] << ", "
+    << r.absorption_per_m[1] << ", " << r.absorption_per_m[2] << "]}\n"
+    << "floor: {file: floor_albedo.png, linear_bgr_16bit: true, rect: ["
+    << r.floor_rect_m.x << ", " << r.floor_rect_m.y << ", "
+    << r.floor_rect_m.width << ", " << r.floor_rect_m.height
+    << "], row0: min_y, table_albedo_bgr: [" << r.table_albedo[0] << ", "
+    << r.table_albedo[1] << ", " << r.table_albedo[2] << "]}\n"
+    << "video: {file: video.png, transfer: srgb, note: the dry scene through "
+       "the lens}\n"
+    << "pen: {visible: " << (in.pen_visible ? "true" : "false")
+    << ", cube_edge: " << in.pen.cube_edge
+    << ", shaft_radius: " << in.pen.shaft_radius
+    << ", shaft_length: " << in.pen.shaft_length << "}\n";
+  mat("tank_from_pen", in.tank_from_pen);
+  y << "obstacles:\n";
+  for (const render::Obstacle& o : in.obstacles) {
+    y << "  - {shape: "
+      << (o.shape == render::Obstacle::Shape::kBox ? "box" : "cylinder")
+      << ", size: [" << o.size.x << ", " << o.size.y << ", " << o.size.z
+      << "]}\n";
+    y << "    ";
+    mat("tank_from_obstacle", o.tank_from_obstacle);
+  }
+  y << "renders: {reference: reference.png, realtime: realtime.png}\n"
+    << "realtime_look: " << render::WaterLookName(ro.optics.look) << "\n";
+  y.close();
+  if (!ok || !y) {
+    *error = "cannot write the scene files in '" + dir + "'";
+    return false;
+  }
+  return true;
+}
+
+int RunBenchRender(const RenderBenchArgs& args) {
+  auto camera = LoadCameraOrReport(args.camera);
+  if (!camera) return kExitBadInput;
+  auto rig = LoadRigOrReport(args.rig);
+  if (!rig) return kExitBadInput;
+  WxH size;
+  ParseWxH(args.size, &size);  // checked by the option's validator
+  const auto backend = render::ParseBackend(args.gl);
+  if (!backend || *backend == render::Backend::kGlfw)
+    return Fail(kExitBadInput, "--gl '" + args.gl + "': use egl or osmesa");
+  std::string error;
+  if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
+
+  RenderScenesOptions so;
+  so.width = size.width;
+  so.height = size.height;
+  std::vector<RenderBenchScene> scenes;
+  if (!MakeRenderScenes(so, *camera, *rig, &scenes, &error))
+    return Fail(kExitBadInput, error);
+  if (!args.scenes.empty()) {
+    for (const std::string& n : args.scenes) {
+      if (std::none_of(scenes.begin(), scenes.end(),
+                       [&](const RenderBenchScene& s) { return s.name == n; }))
+        return Fail(kExitBadInput, "--scenes: unknown scene '" + n + "'");
+    }
+    scenes.erase(std::remove_if(scenes.begin(), scenes.end(),
+                                [&](const RenderBenchScene& s) {
+                                  return std::find(args.scenes.begin(),
+                                                   args.scenes.end(),
+                                                   s.name) == args.scenes.end();
+                                }),
+                 scenes.end());
+  }
+
+  auto ctx = render::Context::TryCreate(*backend, size.width, size.height,
+                                        &error);
+  if (!ctx) return Fail(kExitRuntime, error);
+  render::RendererOptions ro;
+  ro.timing = render::RendererOptions::Timing::kCpuFinish;
+  const render::WaterOptics& optics = ro.optics;
+
+  reference::ReferenceOptions refo;
+  refo.samples_per_pixel = args.samples_per_pixel;
+  refo.light_paths_per_texel = args.light_paths_per_texel;
+  if (!refo.IsValid(&error)) return Fail(kExitBadInput, error);
+
+  const std::string csv_path = args.out + "/bench_render.csv";
+  std::ofstream csv(csv_path);
+  if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
+  csv << "scene,water_pixels,flip";
+  for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
+  csv << ",main_ms,caustics_ms,shadow_ms,reference_s\n";
+  std::printf("mean LDR-FLIP inside the water, real-time against the "
+              "reference (%dx%d, %d spp, %d light paths per texel)\n",
+              size.width, size.height, refo.samples_per_pixel,
+              refo.light_paths_per_texel);
+  std::printf("%-8s %7s %6s |", "scene", "pixels", "FLIP");
+  for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
+  std::printf(" | %6s %6s %6s | %6s\n", "main", "caust", "shadow", "ref_s");
+  std::printf("%-8s %7s %6s |", "", "", "");
+  for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
+  std::printf(" | %6s %6s %6s |\n", "ms", "ms", "ms");
+
+  for (RenderBenchScene& s : scenes) {
+    reference::ReferenceScene& rs = s.scene;
+    // One set of physical parameters for both renderers.
+    rs.absorption_per_m = {optics.absorption_per_m.b,
+                           optics.absorption_per_m.g,
+                           optics.absorption_per_m.r};
+    rs.ambient_share = optics.ambient_share;
+    rs.light_angular_radius_rad = optics.light_angular_radius_rad;
+    rs.water_ior = optics.ior;
+    rs.glass_ior = optics.glass_ior;
+    rs.obstacle_albedo = {ro.obstacle_albedo.b, ro.obstacle_albedo.g,
+                          ro.obstacle_albedo.r};
+    SceneResult res;
+    // The camera's frame: the dry scene through the lens, sRGB.
+    reference::ReferenceOptions dry = refo;
+    dry.dry = true;
+    dry.distort = true;
+    cv::Mat dry_linear, wet_linear;
+    reference::ReferenceSummary sum_dry, sum_wet;
+    if (!reference::RenderReference(dry, rs, &dry_linear, &sum_dry, &error) ||
+        !reference::RenderReference(refo, rs, &wet_linear, &sum_wet, &error))
+      return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
+    res.reference_s = sum_dry.total_seconds + sum_wet.total_seconds;
+    const cv::Mat video = reference::LinearToSrgb8(dry_linear);
+    const cv::Mat reference =
+        EncodeLikeTheDisplay(wet_linear, optics.highlight_knee);
+
+    render::Intrinsics k = rs.camera;
+    auto renderer = render::Renderer::TryCreate(ctx.get(), k, ro, &error);
+    if (!renderer) return Fail(kExitRuntime, error);
+    render::SceneInputs in = rs.scene;
+    in.video = {video.data, video.cols, video.rows,
+                static_cast<int>(video.step)};
+    const cv::Mat realtime = RenderRealTime(renderer.get(), in);
+    if (realtime.empty())
+      return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
+    const cv::Mat mask = WaterMask(rs);
+    res.water_pixels = cv::countNonZero(mask);
+    cv::Mat flip_map;
+    bench::FlipOptions fo;
+    if (!bench::ComputeFlip(fo, reference, realtime, &flip_map, &error))
+      return Fail(kExitRuntime, error);
+    res.flip = bench::MeanFlip(flip_map, mask);
+    for (int e = 0; e < kNumEffects; ++e) {
+      render::SceneInputs off = in;
+      off.effects.*(kEffects[e].flag) = false;
+      const cv::Mat img = RenderRealTime(renderer.get(), off);
+      cv::Mat m;
+      if (img.empty() || !bench::ComputeFlip(fo, reference, img, &m, &error))
+        return Fail(kExitRuntime, "scene '" + s.name + "': effect run failed");
+      res.flip_off[e] = bench::MeanFlip(m, mask);
+    }
+    // Pass times: the surface changes every frame (its counter moves), so
+    // the caustics and the main pass run each time.
+    std::vector<double> main_ms, caustics_ms, shadow_ms;
+    for (int i = 0; i < args.timing_frames; ++i) {
+      in.water.change_counter += 1;
+      in.light_in_tank.x += (i % 2 ? 1e-9 : -1e-9);  // the shadow redraws too
+      if (!renderer->Render(in))
+        return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
+      renderer->Finish();
+      main_ms.push_back(renderer->timings().main_ms);
+      caustics_ms.push_back(renderer->timings().caustics_ms);
+      shadow_ms.push_back(renderer->timings().shadow_ms);
+    }
+    res.main_ms = bench::Percentile(main_ms, 50);
+    res.caustics_ms = bench::Percentile(caustics_ms, 50);
+    res.shadow_ms = bench::Percentile(shadow_ms, 50);
+
+    std::printf("%-8s %7d %6.4f |", s.name.c_str(), res.water_pixels, res.flip);
+    csv << s.name << ',' << res.water_pixels << ',' << res.flip;
+    for (int e = 0; e < kNumEffects; ++e) {
+      std::printf(" %6.4f", res.flip_off[e]);
+      csv << ',' << res.flip_off[e];
+    }
+    std::printf(" | %6.2f %6.2f %6.2f | %6.1f\n", res.main_ms,
+                res.caustics_ms, res.shadow_ms, res.reference_s);
+    csv << ',' << res.main_ms << ',' << res.caustics_ms << ','
+        << res.shadow_ms << ',' << res.reference_s << '\n';
+    std::fflush(stdout);
+
+    cv::Mat heat = bench::FlipHeatmap(flip_map);
+    cv::Mat outline;
+    cv::Mat edges;
+    cv::Canny(mask, edges, 100, 200);
+    heat.setTo(cv::Scalar(255, 255, 255), edges);
+    cv::Mat panel;
+    cv::hconcat(std::vector<cv::Mat>{reference, realtime, heat}, panel);
+    const char* labels[] = {"reference", "real-time", "FLIP"};
+    for (int i = 0; i < 3; ++i) {
+      cv::putText(panel, labels[i], {i * size.width + 8, 20},
+                  cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 3);
+      cv::putText(panel, labels[i], {i * size.width + 8, 20},
+                  cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255),
+                  1);
+    }
+    const std::string png = args.out + "/" + s.name + ".png";
+    if (!cv::imwrite(png, panel))
+      return Fail(kExitRuntime, "cannot write '" + png + "'");
+    if (!args.export_dir.empty() &&
+        !WriteSceneFiles(args.export_dir + "/" + s.name, s, ro, video,
+                         reference, realtime, &error))
+      return Fail(kExitRuntime, error);
+  }
+  csv.close();
+  if (!csv) return Fail(kExitRuntime, "cannot write '" + csv_path + "'");
+  std::printf("wrote %s and one PNG per scene in %s/%s\n", csv_path.c_str(),
+              args.out.c_str(),
+              args.export_dir.empty()
+                  ? ""
+                  : ("; scene files in " + args.export_dir).c_str());
+  return kExitOk;
+}
+
+CommandAction SetupBenchRender(CLI::App* sub) {
+  auto args = std::make_shared<RenderBenchArgs>();
+  sub->add_option("--out", args->out, "Output folder")->capture_default_str();
+  sub->add_option("--camera", args->camera, "Camera calibration YAML")
+      ->capture_default_str();
+  sub->add_option("--rig", args->rig, "Rig YAML")->capture_default_str();
+  sub->add_option("--size", args->size,
+                  "Image size WxH (intrinsics scaled from --camera)")
+      ->capture_default_str()
+      ->check(WxHValidator(WxHLimits::Size()));
+  sub->add_option("--gl", args->gl, "GL backend: egl or osmesa")
+      ->capture_default_str();
+  sub->add_option("--scenes", args->scenes,
+                  "Scenes to run (flat ring demo_a demo_b demo_c tiles pen "
+                  "grazing lens; default all)");
+  sub->add_option("--export", args->export_dir,
+                  "Also write each scene's inputs and both renders here");
+  sub->add_option("--spp", args->samples_per_pixel,
+                  "Reference samples per pixel")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 4096));
+  sub->add_option("--light-paths", args->light_paths_per_texel,
+                  "Reference light paths per caustic texel")
+      ->capture_default_str()
+      ->check(CLI::Range(64, 65536));
+  sub->add_option("--timing-frames", args->timing_frames,
+                  "Real-time frames timed per scene")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10000));
+  return [args] { return RunBenchRender(*args); };
+}
+
+}  // namespace
+
+RIPPLE_REGISTER_BENCH(render,
+                      "Real-time renderer against the physically based "
+                      "reference: FLIP per scene and effect, pass times",
+                      SetupBenchRender);
+
+}  // namespace ripple::app

@@ -85,7 +85,9 @@ class Deposits {
       }
       std::int64_t* texel = &plane[(static_cast<size_t>(j) * c.nu + i) * 3];
       for (int b = 0; b < 3; ++b) {
-        texel[b] += std::llround(flux[b] * w[k] * inv_quantum_);
+        // Fluxes are >= 0: round half up.
+        texel[b] +=
+            static_cast<std::int64_t>(flux[b] * w[k] * inv_quantum_ + 0.5);
       }
     }
     return true;

@@ -56,22 +56,24 @@
 //     Beer-Lambert absorption and occlusion, and their flux is deposited on
 //     the first diffuse surface they meet (tank floor, board around and
 //     under the tank, pen, obstacles) by a tent (bilinear) splat into
-//     irradiance maps. Shading reads those maps bilinearly, so the caustics
-//     carry a tent-of-a-tent filter (a 2-texel-wide cubic B-spline).
+//     irradiance maps. Shading reads the maps bilinearly, so the caustics
+//     carry a tent-of-a-tent filter: a cubic B-spline 4 texels wide
+//     (standard deviation 0.58 texel). Under flat water a lattice moved
+//     rigidly by the refraction is deposited exactly uniformly.
 //   - Sky light: hemisphere rays (cosine-weighted) from every diffuse point,
 //     traced through the water and the glass like any ray; the disc is not
 //     counted on those rays (it is in the two terms above).
 //   - Specular paths from the camera (reflections and refractions) end on
 //     the sky (La), the disc (Ld: glints) or a diffuse point.
 //
-// Not modelled: polarisation after a first reflection (every interface sees
-// unpolarised light), dispersion (one refractive index for all bands),
-// scattering inside the water, glass absorption, the meniscus, the cell
-// mask of obstacles in the height field, light reflected by diffuse surfaces
-// onto others other than through the hemisphere rays' recursion, the glass
-// walls' own edges and rim as anything but planar faces, lens vignetting and
-// sensor noise, SceneInputs::effects (the reference always renders all of
-// it), SceneInputs::video and SceneInputs::caustics_water.
+// Not modelled: polarisation (every interface sees unpolarised light, also
+// after a first reflection), dispersion (one refractive index for all
+// bands), scattering inside the water, absorption in the glass, the
+// meniscus, the obstacles' cell mask in the height field, diffuse
+// interreflections beyond max_diffuse_bounces, a camera inside the tank,
+// lens vignetting, blur and sensor noise, SceneInputs::effects (the
+// reference always renders everything), SceneInputs::video and
+// SceneInputs::caustics_water.
 #ifndef RIPPLE_RENDER_REFERENCE_REFERENCE_H_
 #define RIPPLE_RENDER_REFERENCE_REFERENCE_H_
 

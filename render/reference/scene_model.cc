@@ -128,6 +128,8 @@ void SceneModel::Init(const ReferenceScene& rs, bool dry, double texel) {
     s.shape = Solid::Shape::kBox;
     SetFrame(frame, &s);
     s.half = half;
+    s.bound_centre = s.origin;
+    s.bound_radius = glm::length(half);
     s.albedo = albedo;
     s.first_chart = static_cast<int>(charts_.size());
     for (int axis = 0; axis < 3; ++axis) {
@@ -146,6 +148,8 @@ void SceneModel::Init(const ReferenceScene& rs, bool dry, double texel) {
     s.radius = r;
     s.z0 = z0;
     s.z1 = z1;
+    s.bound_centre = s.origin + s.rot * glm::dvec3(0, 0, 0.5 * (z0 + z1));
+    s.bound_radius = std::hypot(r, 0.5 * (z1 - z0));
     s.albedo = albedo;
     s.first_chart = static_cast<int>(charts_.size());
     AddChart(2 * M_PI * r, z1 - z0, solid_texel, true);
@@ -201,6 +205,14 @@ void SceneModel::SolidHits(const glm::dvec3& o, const glm::dvec3& d,
                            Event* best) const {
   for (size_t k = 0; k < solids_.size(); ++k) {
     const Solid& s = solids_[k];
+    // Bounding sphere first.
+    const glm::dvec3 oc = s.bound_centre - o;
+    const double tca = glm::dot(oc, d);
+    const double r2 = s.bound_radius * s.bound_radius;
+    if (glm::dot(oc, oc) - tca * tca > r2 || tca + s.bound_radius < 0 ||
+        tca - s.bound_radius >= best->t) {
+      continue;
+    }
     const glm::dmat3 local_from_tank = glm::transpose(s.rot);
     const glm::dvec3 lo = local_from_tank * (o - s.origin);
     const glm::dvec3 ld = local_from_tank * d;

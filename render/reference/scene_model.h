@@ -43,6 +43,8 @@ struct Solid {
   glm::dvec3 half{0.0};    // box half extents
   double radius = 0, z0 = 0, z1 = 0;
   Spectrum albedo{0.5};
+  glm::dvec3 bound_centre{0.0};  // bounding sphere, tank frame
+  double bound_radius = 0;
   int first_chart = 0;  // box: 6 faces (axis * 2 + positive); cylinder:
                         // side, z0 cap, z1 cap
 };

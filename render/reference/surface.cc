@@ -76,34 +76,47 @@ void WaterSurface::Init(const render::HeightFieldView& view, double level,
       }
     }
   }
-  // Tile bounds: a Catmull-Rom value is an affine combination of its 4 x 4
-  // nodes whose absolute weights sum to at most 1.25^2 (the negative 1D
-  // weights sum to s(1-s)/2 <= 1/8), so it lies within 1.5625 half-ranges
-  // of the nodes' mid-range.
+  // Tile bounds: a cubic patch lies inside the convex hull of its Bernstein
+  // control net (Farin, Curves and Surfaces for CAGD, 5th ed., sec. 2.8),
+  // b = Q a per dimension for power coefficients a.
+  constexpr double kToBernstein[4][4] = {
+      {1, 0, 0, 0}, {1, 1.0 / 3, 0, 0}, {1, 2.0 / 3, 1.0 / 3, 0}, {1, 1, 1, 1}};
   ntx_ = (npx_ + kTile - 1) / kTile;
   nty_ = (npy_ + kTile - 1) / kTile;
-  tile_lo_.assign(static_cast<size_t>(ntx_) * nty_, 0.0);
-  tile_hi_.assign(tile_lo_.size(), 0.0);
-  z_min_ = kInf;
-  z_max_ = -kInf;
-  for (int ty = 0; ty < nty_; ++ty) {
-    for (int tx = 0; tx < ntx_; ++tx) {
+  tile_lo_.assign(static_cast<size_t>(ntx_) * nty_, kInf);
+  tile_hi_.assign(tile_lo_.size(), -kInf);
+  for (int pj = 0; pj < npy_; ++pj) {
+    for (int pi = 0; pi < npx_; ++pi) {
+      const std::array<double, 16>& c =
+          patches_[static_cast<size_t>(pj) * npx_ + pi];
       double lo = kInf, hi = -kInf;
-      const int i0 = pi0_ + tx * kTile, j0 = pj0_ + ty * kTile;
-      for (int j = j0 - 1; j <= j0 + kTile + 1; ++j) {
-        for (int i = i0 - 1; i <= i0 + kTile + 1; ++i) {
-          lo = std::min(lo, node(i, j));
-          hi = std::max(hi, node(i, j));
+      for (int a = 0; a < 4; ++a) {
+        for (int b = 0; b < 4; ++b) {
+          double v = 0;
+          for (int m = 0; m <= a; ++m) {
+            for (int n = 0; n <= b; ++n) {
+              v += kToBernstein[a][m] * kToBernstein[b][n] * c[m * 4 + n];
+            }
+          }
+          lo = std::min(lo, v);
+          hi = std::max(hi, v);
         }
       }
-      const double c = 0.5 * (lo + hi), r = 0.5 * (hi - lo);
-      const double margin = 1e-12 + 1e-9 * std::abs(c);
-      const size_t k = static_cast<size_t>(ty) * ntx_ + tx;
-      tile_lo_[k] = level + c - 1.5625 * r - margin;
-      tile_hi_[k] = level + c + 1.5625 * r + margin;
-      z_min_ = std::min(z_min_, tile_lo_[k]);
-      z_max_ = std::max(z_max_, tile_hi_[k]);
+      const size_t k = static_cast<size_t>(pj / kTile) * ntx_ + pi / kTile;
+      tile_lo_[k] = std::min(tile_lo_[k], lo);
+      tile_hi_[k] = std::max(tile_hi_[k], hi);
     }
+  }
+  z_min_ = kInf;
+  z_max_ = -kInf;
+  for (size_t k = 0; k < tile_lo_.size(); ++k) {
+    // Rounding margin.
+    const double margin =
+        1e-12 + 1e-9 * std::max(std::abs(tile_lo_[k]), std::abs(tile_hi_[k]));
+    tile_lo_[k] += level - margin;
+    tile_hi_[k] += level + margin;
+    z_min_ = std::min(z_min_, tile_lo_[k]);
+    z_max_ = std::max(z_max_, tile_hi_[k]);
   }
 }
 
@@ -156,7 +169,7 @@ double WaterSurface::Refine(const glm::dvec3& o, const glm::dvec3& d, double a,
     c = b - fb * (b - a) / (fb - fa);
     if (!(c > std::min(a, b) && c < std::max(a, b))) c = 0.5 * (a + b);
     const double fc = F(o, d, c);
-    if (std::abs(fc) < 1e-15 || std::abs(b - a) < 1e-13) return c;
+    if (std::abs(fc) < 1e-13 || std::abs(b - a) < 1e-12) return c;
     if ((fc > 0) == (fb > 0) || fc == 0) {
       b = c;
       fb = fc;
@@ -200,7 +213,7 @@ bool WaterSurface::Intersect(const glm::dvec3& o, const glm::dvec3& d,
     return true;
   }
   const double vxy = std::hypot(d.x, d.y);
-  const double step = vxy > 0 ? cell_ / (6.0 * vxy) : kInf;
+  const double step = vxy > 0 ? cell_ / (4.0 * vxy) : kInf;
   // 2D DDA over the tiles.
   auto tile_x = [&](double x) {
     const int k =

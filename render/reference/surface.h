@@ -36,11 +36,13 @@ class WaterSurface {
   glm::dvec3 Normal(double x, double y) const;
 
   // The first t in [t0, t1] where o + t d crosses the surface: from above
-  // (z > surface at t0) when `from_above`, else from below. Marches tiles
-  // of conservative z bounds, samples every 1/6 cell inside the bounds and
+  // (z > surface at t0) when `from_above`, else from below. Walks tiles of
+  // 2 x 2 patches with rigorous z bounds (skipping where the ray passes
+  // above or below them), samples every quarter cell inside the bounds and
   // refines a sign change by Illinois false position to |z - surface| <
-  // 1e-14 m. Features narrower than 1/6 cell along the ray that the ray
-  // enters and leaves between two samples are missed (grazing rays only).
+  // 1e-13 m (or a bracket under 1e-12 m). A crest or trough that the ray
+  // enters and leaves between two samples a quarter cell apart is missed
+  // (grazing rays only).
   bool Intersect(const glm::dvec3& o, const glm::dvec3& d, double t0, double t1,
                  bool from_above, double* t) const;
 
@@ -57,7 +59,7 @@ class WaterSurface {
   int pi0_ = 0, pj0_ = 0, npx_ = 0, npy_ = 0;
   std::vector<std::array<double, 16>> patches_;  // c[m * 4 + n] s^m t^n
   // Tiles of kTile x kTile patches with z bounds (absolute).
-  static constexpr int kTile = 4;
+  static constexpr int kTile = 2;
   int ntx_ = 0, nty_ = 0;
   std::vector<double> tile_lo_, tile_hi_;
   double z_min_ = 0, z_max_ = 0;

@@ -344,6 +344,92 @@ TEST(ReferenceLightTest, LightTracedFluxIsConserved) {
   EXPECT_NEAR(map_flux / (s.surface_incident[1] * t0), 1.0, 0.01);
 }
 
+// Registration of the light-traced map and of its lookup: a box standing in
+// flat water casts a shadow whose far edge lies where the ray grazing the
+// box's top edge lands, (top - level) tan(theta) + level tan(theta_t) beyond
+// it; the map's 50% crossing and that of the image of a camera looking
+// straight down on the edge (where refraction does not move it) must be
+// there.
+TEST(ReferenceLightTest, ShadowEdgeUnderWaterIsWhereRefractionPutsIt) {
+  ReferenceScene rs;
+  rs.light_angular_radius_rad = 0.5 * M_PI / 180;
+  rs.scene.light_in_tank = {0.5, 0.0, 1.0};
+  rs.absorption_per_m = {0, 0, 0};
+  render::Obstacle box;
+  box.shape = render::Obstacle::Shape::kBox;
+  box.size = {0.01f, 0.06f, 0.035f};
+  rs.scene.obstacles.push_back(box);
+  const double level = rs.scene.tank.water_level;
+  const double theta = std::atan(0.5);
+  const double theta_t = std::asin(std::sin(theta) / rs.water_ior);
+  const double edge_x = -0.005 - (box.size.z - level) * std::tan(theta) -
+                        level * std::tan(theta_t);
+  // A camera 0.3 m straight above the edge, image x along tank x.
+  const glm::dvec3 eye(edge_x, 0.0, 0.3);
+  glm::dmat4 cam_from_tank(1.0);
+  cam_from_tank[1][1] = -1;
+  cam_from_tank[2][2] = -1;
+  cam_from_tank[3] = glm::dvec4(-eye.x, eye.y, eye.z, 1.0);
+  rs.scene.cam_from_tank = cam_from_tank;
+  rs.camera.width = 96;
+  rs.camera.height = 8;
+  rs.camera.fx = rs.camera.fy = 3000;  // 10 px per mm on the floor
+  rs.camera.cx = 47.5;
+  rs.camera.cy = 3.5;
+  ReferenceOptions o = FastOptions();
+  o.caustic_map_size = 256;
+
+  LightMaps maps;
+  std::string error;
+  ASSERT_TRUE(ComputeLightMaps(o, rs, &maps, nullptr, &error)) << error;
+  const cv::Mat& m = maps.floor_irradiance;
+  const double du = maps.floor_rect_m.width / m.cols;
+  const int row = static_cast<int>((0.0 - maps.floor_rect_m.y) /
+                                   (maps.floor_rect_m.height / m.rows));
+  const double lit = m.at<cv::Vec3f>(row, 10)[1];
+  double map_edge = 0;
+  for (int c = 10; c + 1 < m.cols; ++c) {
+    const double e0 = m.at<cv::Vec3f>(row, c)[1];
+    const double e1 = m.at<cv::Vec3f>(row, c + 1)[1];
+    if (e0 >= 0.5 * lit && e1 < 0.5 * lit) {
+      const double x0 = maps.floor_rect_m.x + (c + 0.5) * du;
+      map_edge = x0 + du * (e0 - 0.5 * lit) / (e0 - e1);
+      break;
+    }
+  }
+  std::printf("shadow edge in the map: %.4f texel from the analytic %.5f m\n",
+              (map_edge - edge_x) / du, edge_x);
+  EXPECT_NEAR(map_edge, edge_x, 0.25 * du);
+
+  o.samples_per_pixel = 64;
+  cv::Mat img;
+  ASSERT_TRUE(RenderReference(o, rs, &img, nullptr, &error)) << error;
+  std::vector<double> profile(img.cols, 0.0);
+  for (int v = 0; v < img.rows; ++v) {
+    for (int u = 0; u < img.cols; ++u) {
+      profile[u] += img.at<cv::Vec3f>(v, u)[1] / img.rows;
+    }
+  }
+  // Lit where x < edge (left), the box's shadow to the right.
+  double lit_level = 0, shadow_level = 0;
+  for (int u = 0; u < 10; ++u) {
+    lit_level += profile[u] / 10;
+    shadow_level += profile[img.cols - 1 - u] / 10;
+  }
+  ASSERT_GT(lit_level, 2 * shadow_level);
+  const double half = 0.5 * (lit_level + shadow_level);
+  double image_edge = -1;
+  for (int u = 0; u + 1 < img.cols; ++u) {
+    if (profile[u] >= half && profile[u + 1] < half) {
+      image_edge = u + (profile[u] - half) / (profile[u] - profile[u + 1]);
+      break;
+    }
+  }
+  std::printf("shadow edge in the image: %.3f px from the analytic\n",
+              image_edge - rs.camera.cx);
+  EXPECT_NEAR(image_edge, rs.camera.cx, 0.5);
+}
+
 // A dry, plain board in full light has radiance = albedo, with and without
 // lens distortion, whatever the light's direction.
 TEST(ReferenceRenderTest, DryBoardRadianceIsAlbedo) {

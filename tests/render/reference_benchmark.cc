@@ -2,14 +2,15 @@
 // samples per pixel unless the arguments say otherwise): the wet render
 // through the ideal pinhole and the dry one through a distorting lens, as
 // the benchmark that compares the real-time renderer will render them; and
-// the light tracing alone per caustic-map size. Counters: the light and
-// camera passes' seconds.
+// the light tracing alone per caustic-map size. `light` 0 is the project's
+// default light, 1 the backlit one (glints in view). Counters: the light
+// and camera passes' seconds.
 //
 //   build/tests/render/render_reference_benchmark
 // With RIPPLE_REFERENCE_PNG_DIR=<folder> in the environment, BM_RingScene
 // writes its last render there, sRGB: the wet one as reference_ring.png,
 // the dry one as reference_ring_dry.png (docs/reference_ring.png is
-// `--benchmark_filter='BM_RingScene/dry:0/spp:16/threads:2/ambient:4'`).
+// `--benchmark_filter='BM_RingScene/dry:0/spp:16/threads:2/ambient:4/light:1'`).
 #include <benchmark/benchmark.h>
 
 #include <cstdlib>
@@ -23,7 +24,7 @@ namespace {
 
 void BM_RingScene(benchmark::State& state) {
   const bool dry = state.range(0) != 0;
-  auto owned = testing::MakeRingScene(640, 480);
+  auto owned = testing::MakeRingScene(640, 480, state.range(4) != 0);
   ReferenceScene& rs = owned->scene;
   if (dry) rs.camera.dist = {-0.12, 0.08, 0, 0, 0, 0, 0, 0};
   ReferenceOptions o;
@@ -51,10 +52,12 @@ void BM_RingScene(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RingScene)
-    ->ArgNames({"dry", "spp", "threads", "ambient"})
-    ->Args({0, 16, 2, 1})
-    ->Args({0, 16, 2, 4})
-    ->Args({1, 16, 2, 1})
+    ->ArgNames({"dry", "spp", "threads", "ambient", "light"})
+    ->Args({0, 16, 2, 1, 0})
+    ->Args({0, 16, 2, 4, 0})
+    ->Args({1, 16, 2, 1, 0})
+    ->Args({0, 16, 2, 4, 1})
+    ->Args({1, 16, 2, 1, 1})
     ->Iterations(1)
     ->Unit(benchmark::kSecond)
     ->UseRealTime();

@@ -98,8 +98,11 @@ inline glm::dmat4 PenWithTipAt(const glm::dvec3& tip_in_tank) {
 // The demo-like view: the default tank (17 x 11 cm, walls 4 cm, water 2.5
 // cm) from 0.33 m away, 60 degrees horizontal field of view; a ring wave of
 // 0.4 mm and 8 mm wavelength over 256 x 166 cells; a checkered board; the
-// pen dipped at the ring's centre and one cylinder obstacle.
-inline std::unique_ptr<OwnedScene> MakeRingScene(int width, int height) {
+// pen dipped at the ring's centre and one cylinder obstacle. The light is
+// the project's default direction, or with `backlit` behind the tank as seen
+// from the camera, so that the sun's glint and the ring's glints are in view.
+inline std::unique_ptr<OwnedScene> MakeRingScene(int width, int height,
+                                                 bool backlit = false) {
   auto s = std::make_unique<OwnedScene>();
   ReferenceScene& rs = s->scene;
   rs.camera = geometry::MakeIdealCamera(width, height, 60.0);
@@ -119,6 +122,7 @@ inline std::unique_ptr<OwnedScene> MakeRingScene(int width, int height) {
   pillar.size = {0.008f, 0.008f, 0.035f};
   pillar.tank_from_obstacle[3] = glm::dvec4(-0.05, 0.02, 0.0, 1.0);
   rs.scene.obstacles.push_back(pillar);
+  if (backlit) rs.scene.light_in_tank = {0.25, 0.9, 1.0};
   return s;
 }
 

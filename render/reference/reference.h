@@ -77,6 +77,7 @@
 #ifndef RIPPLE_RENDER_REFERENCE_REFERENCE_H_
 #define RIPPLE_RENDER_REFERENCE_REFERENCE_H_
 
+#include <cmath>
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
@@ -192,7 +193,9 @@ struct LightTraceSummary {
 // board in full light receives Ed l.z = (1 - a) pi), per band.
 struct LightMaps {
   // The tank floor under the water, CV_32FC3, over floor_rect_m (= the inner
-  // tank), row 0 at min y; texel centres at the cell centres.
+  // tank): texel (col c, row r) covers x in [x + c w / cols, x + (c + 1) w /
+  // cols), y likewise with rows (row 0 at min y); its value is the tent-
+  // filtered irradiance at the texel's centre.
   cv::Mat floor_irradiance;
   cv::Rect2d floor_rect_m;
   // The board under the glass and around the tank (scattered light only:
@@ -227,7 +230,8 @@ LightRadiometry ComputeLightRadiometry(const ReferenceScene& scene);
 bool IsValidScene(const ReferenceScene& scene, std::string* error);
 
 // Light tracing alone (the wet scene's caustics and the light through the
-// walls): fills `maps` and `summary` (either may be null).
+// walls): fills `maps` and `summary` (either may be null). options.dry and
+// options.roi are ignored.
 bool ComputeLightMaps(const ReferenceOptions& options,
                       const ReferenceScene& scene, LightMaps* maps,
                       LightTraceSummary* summary, std::string* error);

@@ -111,7 +111,7 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
       DemoSnapshot s;
       s.heights = std::make_shared<std::vector<float>>(
           v.heights, v.heights + static_cast<size_t>(v.nx) * v.ny);
-      s.view = {s.heights->data(), v.nx, v.ny, static_cast<float>(v.cell_size),
+      s.view = {s.heights->data(), v.nx, v.ny, static_cast<float>(v.cell_m),
                 1};
       s.tank_from_pen = f.scene.tank_from_pen;
       out->push_back(s);
@@ -246,7 +246,7 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
   return true;
 }
 
-cv::Mat WaterMask(const reference::ReferenceScene& scene) {
+cv::Mat WaterMask(const reference::ReferenceScene& scene, bool open_only) {
   const geometry::CameraModel& cam = scene.camera;
   const render::TankGeometry& t = scene.scene.tank;
   const glm::dmat4 tank_from_cam = glm::inverse(scene.scene.cam_from_tank);
@@ -260,10 +260,31 @@ cv::Mat WaterMask(const reference::ReferenceScene& scene) {
       if (d.z >= -1e-9) continue;
       const double s = (t.water_level - eye.z) / d.z;
       const glm::dvec3 p = eye + s * d;
-      if (s > 0 && std::abs(p.x) < 0.5 * t.size_x &&
-          std::abs(p.y) < 0.5 * t.size_y) {
-        mask.at<std::uint8_t>(v, u) = 255;
+      if (!(s > 0 && std::abs(p.x) < 0.5 * t.size_x &&
+            std::abs(p.y) < 0.5 * t.size_y))
+        continue;
+      if (open_only) {
+        // Where the ray from the eye crosses a wall's plane (x = +-X/2 or
+        // y = +-Y/2) below the wall's top, it passed through the glass.
+        bool through_glass = false;
+        for (int axis = 0; axis < 2 && !through_glass; ++axis) {
+          const double half = 0.5 * (axis == 0 ? t.size_x : t.size_y);
+          const double e = axis == 0 ? eye.x : eye.y;
+          const double dd = axis == 0 ? d.x : d.y;
+          for (const double wall : {-half, half}) {
+            if (std::abs(dd) < 1e-12) continue;
+            const double sw = (wall - e) / dd;
+            if (sw <= 0 || sw >= s) continue;
+            const glm::dvec3 q = eye + sw * d;
+            const double across = axis == 0 ? q.y : q.x;
+            const double half_across = 0.5 * (axis == 0 ? t.size_y : t.size_x);
+            if (q.z < t.wall_height && std::abs(across) <= half_across)
+              through_glass = true;
+          }
+        }
+        if (through_glass) continue;
       }
+      mask.at<std::uint8_t>(v, u) = 255;
     }
   }
   return mask;

@@ -34,8 +34,9 @@ struct RenderBenchArgs {
   std::string gl = "egl";
   std::vector<std::string> scenes;  // empty: all
   std::string export_dir;
-  int samples_per_pixel = 16;
+  int samples_per_pixel = 64;
   int light_paths_per_texel = 64;
+  int sky_rays = 4;
   int timing_frames = 15;
 };
 
@@ -73,9 +74,13 @@ cv::Mat EncodeLikeTheDisplay(const cv::Mat& linear, double knee) {
 
 struct SceneResult {
   double flip = 0;
+  double flip_open = 0;  // over the open water (no glass on the way)
   double flip_off[kNumEffects] = {};
   double main_ms = 0, caustics_ms = 0, shadow_ms = 0;
   double reference_s = 0;
+  // FLIP of the reference against itself rendered with other random
+  // numbers: the part of `flip` that is the reference's own noise.
+  double noise_floor = 0;
   int water_pixels = 0;
 };
 
@@ -212,24 +217,26 @@ int RunBenchRender(const RenderBenchArgs& args) {
   reference::ReferenceOptions refo;
   refo.samples_per_pixel = args.samples_per_pixel;
   refo.light_paths_per_texel = args.light_paths_per_texel;
+  refo.ambient_samples = args.sky_rays;
   if (!refo.IsValid(&error)) return Fail(kExitBadInput, error);
 
   const std::string csv_path = args.out + "/bench_render.csv";
   std::ofstream csv(csv_path);
   if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
-  csv << "scene,water_pixels,flip";
+  csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
-  csv << ",main_ms,caustics_ms,shadow_ms,reference_s\n";
+  csv << ",reference_noise,main_ms,caustics_ms,shadow_ms,reference_s\n";
   std::printf("mean LDR-FLIP inside the water, real-time against the "
               "reference (%dx%d, %d spp, %d light paths per texel)\n",
               size.width, size.height, refo.samples_per_pixel,
               refo.light_paths_per_texel);
-  std::printf("%-8s %7s %6s |", "scene", "pixels", "FLIP");
+  std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
-  std::printf(" | %6s %6s %6s | %6s\n", "main", "caust", "shadow", "ref_s");
-  std::printf("%-8s %7s %6s |", "", "", "");
+  std::printf(" | %6s | %6s %6s %6s | %6s\n", "noise", "main", "caust",
+              "shadow", "ref_s");
+  std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
-  std::printf(" | %6s %6s %6s |\n", "ms", "ms", "ms");
+  std::printf(" | %6s | %6s %6s %6s |\n", "floor", "ms", "ms", "ms");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -257,6 +264,13 @@ int RunBenchRender(const RenderBenchArgs& args) {
     const cv::Mat video = reference::LinearToSrgb8(dry_linear);
     const cv::Mat reference =
         EncodeLikeTheDisplay(wet_linear, optics.highlight_knee);
+    reference::ReferenceOptions reseeded = refo;
+    reseeded.seed = refo.seed + 1000;
+    cv::Mat wet_again;
+    if (!reference::RenderReference(reseeded, rs, &wet_again, nullptr, &error))
+      return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
+    const cv::Mat reference_again =
+        EncodeLikeTheDisplay(wet_again, optics.highlight_knee);
 
     render::Intrinsics k = rs.camera;
     auto renderer = render::Renderer::TryCreate(ctx.get(), k, ro, &error);
@@ -267,13 +281,22 @@ int RunBenchRender(const RenderBenchArgs& args) {
     const cv::Mat realtime = RenderRealTime(renderer.get(), in);
     if (realtime.empty())
       return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
-    const cv::Mat mask = WaterMask(rs);
+    const cv::Mat mask = WaterMask(rs, false);
+    const cv::Mat open_mask = WaterMask(rs, true);
     res.water_pixels = cv::countNonZero(mask);
     cv::Mat flip_map;
     bench::FlipOptions fo;
     if (!bench::ComputeFlip(fo, reference, realtime, &flip_map, &error))
       return Fail(kExitRuntime, error);
     res.flip = bench::MeanFlip(flip_map, mask);
+    res.flip_open = cv::countNonZero(open_mask) > 0
+                        ? bench::MeanFlip(flip_map, open_mask)
+                        : 0.0;
+    cv::Mat noise_map;
+    if (!bench::ComputeFlip(fo, reference, reference_again, &noise_map,
+                            &error))
+      return Fail(kExitRuntime, error);
+    res.noise_floor = bench::MeanFlip(noise_map, mask);
     for (int e = 0; e < kNumEffects; ++e) {
       render::SceneInputs off = in;
       off.effects.*(kEffects[e].flag) = false;
@@ -284,11 +307,12 @@ int RunBenchRender(const RenderBenchArgs& args) {
       res.flip_off[e] = bench::MeanFlip(m, mask);
     }
     // Pass times: the surface changes every frame (its counter moves), so
-    // the caustics and the main pass run each time.
+    // the caustics and the main pass run each time; the pen (when there is
+    // one) moves by 1.5 mm, so the shadow map is redrawn too.
     std::vector<double> main_ms, caustics_ms, shadow_ms;
     for (int i = 0; i < args.timing_frames; ++i) {
       in.water.change_counter += 1;
-      in.light_in_tank.x += (i % 2 ? 1e-9 : -1e-9);  // the shadow redraws too
+      in.tank_from_pen[3][0] += i % 2 ? 0.0015 : -0.0015;
       if (!renderer->Render(in))
         return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
       renderer->Finish();
@@ -300,15 +324,17 @@ int RunBenchRender(const RenderBenchArgs& args) {
     res.caustics_ms = bench::Percentile(caustics_ms, 50);
     res.shadow_ms = bench::Percentile(shadow_ms, 50);
 
-    std::printf("%-8s %7d %6.4f |", s.name.c_str(), res.water_pixels, res.flip);
-    csv << s.name << ',' << res.water_pixels << ',' << res.flip;
+    std::printf("%-8s %7d %6.4f %6.4f |", s.name.c_str(), res.water_pixels,
+                res.flip, res.flip_open);
+    csv << s.name << ',' << res.water_pixels << ',' << res.flip << ','
+        << res.flip_open;
     for (int e = 0; e < kNumEffects; ++e) {
       std::printf(" %6.4f", res.flip_off[e]);
       csv << ',' << res.flip_off[e];
     }
-    std::printf(" | %6.2f %6.2f %6.2f | %6.1f\n", res.main_ms,
-                res.caustics_ms, res.shadow_ms, res.reference_s);
-    csv << ',' << res.main_ms << ',' << res.caustics_ms << ','
+    std::printf(" | %6.4f | %6.2f %6.2f %6.2f | %6.1f\n", res.noise_floor,
+                res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
+    csv << ',' << res.noise_floor << ',' << res.main_ms << ',' << res.caustics_ms << ','
         << res.shadow_ms << ',' << res.reference_s << '\n';
     std::fflush(stdout);
 
@@ -370,6 +396,10 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "Reference light paths per caustic texel")
       ->capture_default_str()
       ->check(CLI::Range(64, 65536));
+  sub->add_option("--sky-rays", args->sky_rays,
+                  "Reference sky rays per sample at the first diffuse point")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1024));
   sub->add_option("--timing-frames", args->timing_frames,
                   "Real-time frames timed per scene")
       ->capture_default_str()

@@ -66,5 +66,4 @@ bool WriteNpy(const std::string& path, const float* data, int ny, int nx) {
   return ok;
 }
 
-
 }  // namespace ripple::app

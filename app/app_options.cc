@@ -46,7 +46,8 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
   render::WaterLook look;
   if (!render::ParseWaterLook(args->water_look, &look)) {
-    if (error) *error = "--water-look '" + args->water_look + "': use clear or pool";
+    if (error)
+      *error = "--water-look '" + args->water_look + "': use clear or pool";
     return false;
   }
   render::WaterOptics& optics = o.renderer.optics;

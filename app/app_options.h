@@ -4,8 +4,8 @@
 #define RIPPLE_APP_APP_OPTIONS_H_
 
 #include <CLI/CLI.hpp>
-#include <opencv2/core.hpp>
 #include <cmath>
+#include <opencv2/core.hpp>
 #include <string>
 
 #include "app/app_pipeline.h"

@@ -60,9 +60,9 @@ std::shared_ptr<std::vector<float>> Ring(const render::TankGeometry& tank,
       const double x = (i + 0.5 - 0.5 * nx) * d - x0;
       const double y = (j + 0.5 - 0.5 * ny) * d - y0;
       const double r = std::hypot(x, y);
-      (*h)[static_cast<size_t>(j) * nx + i] = static_cast<float>(
-          amplitude * std::cos(2 * M_PI * r / wavelength) *
-          std::exp(-r * r / (2 * sigma * sigma)));
+      (*h)[static_cast<size_t>(j) * nx + i] =
+          static_cast<float>(amplitude * std::cos(2 * M_PI * r / wavelength) *
+                             std::exp(-r * r / (2 * sigma * sigma)));
     }
   }
   *view = {h->data(), nx, ny, static_cast<float>(d), 1};
@@ -111,8 +111,7 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
       DemoSnapshot s;
       s.heights = std::make_shared<std::vector<float>>(
           v.heights, v.heights + static_cast<size_t>(v.nx) * v.ny);
-      s.view = {s.heights->data(), v.nx, v.ny, static_cast<float>(v.cell_m),
-                1};
+      s.view = {s.heights->data(), v.nx, v.ny, static_cast<float>(v.cell_m), 1};
       s.tank_from_pen = f.scene.tank_from_pen;
       out->push_back(s);
     }
@@ -161,7 +160,8 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
   rect.min() -= Eigen::Vector2d(0.05, 0.05);
   rect.max() += Eigen::Vector2d(0.05, 0.05);
   synth::FloorOptions tiles_options;  // tiles by default
-  const auto tiles = synth::FloorPattern::Create(tiles_options, rig.tank, error);
+  const auto tiles =
+      synth::FloorPattern::Create(tiles_options, rig.tank, error);
   if (!tiles) return false;
   const cv::Mat board_plain = synth::RenderBoardAlbedo(
       rig, synth::FloorPattern(), rect, options.board_px_per_m);
@@ -187,8 +187,8 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
   scenes->clear();
   scenes->push_back(make("flat", "flat water, plain floor", false));
   {
-    RenderBenchScene s = make("ring", "ring wave 0.4 mm / 8 mm, plain floor",
-                              false);
+    RenderBenchScene s =
+        make("ring", "ring wave 0.4 mm / 8 mm, plain floor", false);
     s.heights = Ring(s.scene.scene.tank, cell, 0.0004, 0.008, 0.02, ring_x,
                      ring_y, &s.scene.scene.water);
     scenes->push_back(s);
@@ -223,8 +223,8 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     RenderBenchScene s =
         make("pen", "pen dipped 10 mm, its shadow, a pillar, tiles", true);
     s.scene.scene.pen_visible = true;
-    s.scene.scene.tank_from_pen = PenAt(
-        *rig.pen, {0.015, -0.005, level - 0.010}, {0.15, -0.30, 1.0});
+    s.scene.scene.tank_from_pen =
+        PenAt(*rig.pen, {0.015, -0.005, level - 0.010}, {0.15, -0.30, 1.0});
     s.scene.scene.obstacles = obstacles;
     scenes->push_back(s);
   }
@@ -254,9 +254,9 @@ cv::Mat WaterMask(const reference::ReferenceScene& scene, bool open_only) {
   cv::Mat mask(cam.height, cam.width, CV_8U, cv::Scalar(0));
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
-      const glm::dvec3 d(tank_from_cam *
-                         glm::dvec4((u - cam.cx) / cam.fx,
-                                    (v - cam.cy) / cam.fy, 1.0, 0.0));
+      const glm::dvec3 d(tank_from_cam * glm::dvec4((u - cam.cx) / cam.fx,
+                                                    (v - cam.cy) / cam.fy, 1.0,
+                                                    0.0));
       if (d.z >= -1e-9) continue;
       const double s = (t.water_level - eye.z) / d.z;
       const glm::dvec3 p = eye + s * d;

@@ -136,9 +136,9 @@ bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
     << "  # metres above the rest level, cell (i, j) centred at\n"
     << "  # ((i + 0.5 - nx/2) d, (j + 0.5 - ny/2) d)\n"
     << "light: {towards: [" << in.light_in_tank.x << ", " << in.light_in_tank.y
-    << ", " << in.light_in_tank.z << "], angular_radius_rad: "
-    << r.light_angular_radius_rad << ", ambient_share: " << r.ambient_share
-    << "}\n"
+    << ", " << in.light_in_tank.z
+    << "], angular_radius_rad: " << r.light_angular_radius_rad
+    << ", ambient_share: " << r.ambient_share << "}\n"
     << "optics: {water_ior: " << r.water_ior << ", glass_ior: " << r.glass_ior
     << ", absorption_per_m_bgr: [" << r.absorption_per_m[0] << ", "
     << r.absorption_per_m[1] << ", " << r.absorption_per_m[2] << "]}\n"
@@ -207,8 +207,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
                  scenes.end());
   }
 
-  auto ctx = render::Context::TryCreate(*backend, size.width, size.height,
-                                        &error);
+  auto ctx =
+      render::Context::TryCreate(*backend, size.width, size.height, &error);
   if (!ctx) return Fail(kExitRuntime, error);
   render::RendererOptions ro;
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
@@ -226,10 +226,11 @@ int RunBenchRender(const RenderBenchArgs& args) {
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
   csv << ",reference_noise,main_ms,caustics_ms,shadow_ms,reference_s\n";
-  std::printf("mean LDR-FLIP inside the water, real-time against the "
-              "reference (%dx%d, %d spp, %d light paths per texel)\n",
-              size.width, size.height, refo.samples_per_pixel,
-              refo.light_paths_per_texel);
+  std::printf(
+      "mean LDR-FLIP inside the water, real-time against the "
+      "reference (%dx%d, %d spp, %d light paths per texel)\n",
+      size.width, size.height, refo.samples_per_pixel,
+      refo.light_paths_per_texel);
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
   std::printf(" | %6s | %6s %6s %6s | %6s\n", "noise", "main", "caust",
@@ -241,8 +242,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
     // One set of physical parameters for both renderers.
-    rs.absorption_per_m = {optics.absorption_per_m.b,
-                           optics.absorption_per_m.g,
+    rs.absorption_per_m = {optics.absorption_per_m.b, optics.absorption_per_m.g,
                            optics.absorption_per_m.r};
     rs.ambient_share = optics.ambient_share;
     rs.light_angular_radius_rad = optics.light_angular_radius_rad;
@@ -293,8 +293,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
                         ? bench::MeanFlip(flip_map, open_mask)
                         : 0.0;
     cv::Mat noise_map;
-    if (!bench::ComputeFlip(fo, reference, reference_again, &noise_map,
-                            &error))
+    if (!bench::ComputeFlip(fo, reference, reference_again, &noise_map, &error))
       return Fail(kExitRuntime, error);
     res.noise_floor = bench::MeanFlip(noise_map, mask);
     for (int e = 0; e < kNumEffects; ++e) {
@@ -334,8 +333,9 @@ int RunBenchRender(const RenderBenchArgs& args) {
     }
     std::printf(" | %6.4f | %6.2f %6.2f %6.2f | %6.1f\n", res.noise_floor,
                 res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
-    csv << ',' << res.noise_floor << ',' << res.main_ms << ',' << res.caustics_ms << ','
-        << res.shadow_ms << ',' << res.reference_s << '\n';
+    csv << ',' << res.noise_floor << ',' << res.main_ms << ','
+        << res.caustics_ms << ',' << res.shadow_ms << ',' << res.reference_s
+        << '\n';
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
@@ -350,8 +350,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
       cv::putText(panel, labels[i], {i * size.width + 8, 20},
                   cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 3);
       cv::putText(panel, labels[i], {i * size.width + 8, 20},
-                  cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255),
-                  1);
+                  cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255), 1);
     }
     const std::string png = args.out + "/" + s.name + ".png";
     if (!cv::imwrite(png, panel))

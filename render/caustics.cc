@@ -285,10 +285,17 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
               const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
               std::vector<float>* map, CausticsSummary* summary) {
   if (!o.light_through_walls) return;
-  const std::vector<double> key = {
-      tank.size_x, tank.size_y, tank.water_level, l.x,   l.y,
-      l.z,         o.ior,       o.glass_ior,      o.attenuation_per_m,
-      double(o.map_nx), double(o.map_ny)};
+  const std::vector<double> key = {tank.size_x,
+                                   tank.size_y,
+                                   tank.water_level,
+                                   l.x,
+                                   l.y,
+                                   l.z,
+                                   o.ior,
+                                   o.glass_ior,
+                                   o.attenuation_per_m,
+                                   double(o.map_nx),
+                                   double(o.map_ny)};
   if (ws->walls_key != key) {
     ws->walls.assign(map->size(), 0.0f);
     ws->walls_flux = caustics_internal::AddWallLight(

@@ -172,8 +172,13 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
     s.floor_sun[c] = static_cast<float>(
         (1.0 - a) * DirectTransmittance(cos_l, o.ior, sigma, d));
   }
-  s.internal_reflectance =
-      static_cast<float>(DiffuseInternalReflectance(o.ior));
+  const double r_int = DiffuseInternalReflectance(o.ior);
+  const double cos_c = std::sqrt(1.0 - 1.0 / (double(o.ior) * o.ior));
+  const double round_trip = 2.0 * (2.0 * d / cos_c);
+  for (int c = 0; c < 3; ++c) {
+    s.internal_reflectance[c] = static_cast<float>(
+        r_int * std::exp(-o.absorption_per_m[c] * round_trip));
+  }
   s.inv_n2 = static_cast<float>(1.0 / (double(o.ior) * o.ior));
   s.glass_transmittance =
       static_cast<float>((1.0 - FresnelReflectance(1.0, 1.0, o.glass_ior)) *

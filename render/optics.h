@@ -107,10 +107,14 @@ struct WaterOptics {
 // 1/n^2 on leaving the water; then Beer-Lambert along the view path and
 // Fresnel against the reflection.
 struct WaterShading {
-  glm::vec3 floor_sky{0.0f};       // a * SkyTransmittance per band
-  glm::vec3 floor_sun{0.0f};       // (1 - a) * DirectTransmittance per band
-  float internal_reflectance = 0;  // DiffuseInternalReflectance(n)
-  float inv_n2 = 1;                // 1 / n^2
+  glm::vec3 floor_sky{0.0f};  // a * SkyTransmittance per band
+  glm::vec3 floor_sun{0.0f};  // (1 - a) * DirectTransmittance per band
+  // DiffuseInternalReflectance(n) times the absorption of one round trip
+  // floor -> surface -> floor of the totally reflected light, per band: the
+  // legs of a Lambertian floor's light beyond the critical angle theta_c
+  // average depth / cos(theta) = 2 depth / cos(theta_c) each.
+  glm::vec3 internal_reflectance{0.0f};
+  float inv_n2 = 1;  // 1 / n^2
   // A floor point seen through a glass wall from inside the water: what the
   // video shows beyond it, times the glass's two interfaces at normal
   // incidence.

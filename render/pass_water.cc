@@ -119,7 +119,7 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   const WaterShading& w = f.shading;
   SetUniform(shading.floor_sky, w.floor_sky);
   SetUniform(shading.floor_sun, w.floor_sun);
-  glUniform1f(shading.internal_reflectance, w.internal_reflectance);
+  SetUniform(shading.internal_reflectance, w.internal_reflectance);
   glUniform1f(shading.inv_n2, w.inv_n2);
   glUniform1f(shading.glass_t, w.glass_transmittance);
   glUniform1f(shading.glint_peak, w.glint_peak);

@@ -29,7 +29,7 @@ uniform float u_ior;             // water
 // Constants of the floor's light (optics.h, WaterShading).
 uniform vec3 u_floor_sky;        // sky through the flat surface to the floor
 uniform vec3 u_floor_sun;        // direct light through the flat surface
-uniform float u_internal_reflectance;
+uniform vec3 u_internal_reflectance;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform float u_glint_peak;      // disc radiance per unit Fresnel

@@ -263,7 +263,7 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
       double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb]) * w.inv_n2 /
-                 (1 - w.internal_reflectance * video);
+                 (1 - w.internal_reflectance[rgb] * video);
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
       x = HighlightShoulder(x, o.optics.highlight_knee);
       const double expected =

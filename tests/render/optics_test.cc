@@ -143,6 +143,14 @@ TEST(OpticsTest, WaterShadingConstants) {
   EXPECT_NEAR(s.glint_peak, (1 - o.ambient_share) / (0.8 * alpha * alpha),
               1e-3);
   EXPECT_NEAR(s.inv_n2, 1 / (o.ior * o.ior), 1e-6);
+  // The totally reflected light's round trip (2 x 2 depth / cos theta_c)
+  // costs red more than blue.
+  const double cos_c = std::sqrt(1 - 1 / (o.ior * o.ior));
+  EXPECT_NEAR(s.internal_reflectance.r,
+              DiffuseInternalReflectance(o.ior) *
+                  std::exp(-o.absorption_per_m.r * 4 * 0.025 / cos_c),
+              1e-6);
+  EXPECT_LT(s.internal_reflectance.r, s.internal_reflectance.b);
 }
 
 TEST(OpticsTest, OptionsAndNames) {

@@ -30,6 +30,9 @@
 //     water): Lekner & Dorf, "Why some things are darker when wet", Applied
 //     Optics 27 (1988). Both are traced
 //     (ReferenceOptions::max_diffuse_bounces).
+//   - A pixel of the floor under water also holds the sky's mirror image on
+//     the surface, R La (R = 0.0204 at normal incidence): compare an
+//     analytic floor term with the pixel less R La.
 //
 // What is modelled: exact ray intersection with the water surface (see
 // surface.h for its interpolant), the four glass walls (slabs of
@@ -135,8 +138,10 @@ struct ReferenceOptions {
   // path; a path that needs more is dropped (counted as cut).
   int max_bounces = 8;
   // Diffuse interreflections: a diffuse point reached after this many
-  // diffuse bounces gets direct light only (no hemisphere rays). 0: the
-  // surfaces the camera sees get direct light only.
+  // diffuse bounces gets the disc's light only (straight and light-traced;
+  // no hemisphere rays, so no sky). 0: the surfaces the camera sees get the
+  // disc's light only; under water with a = 1 the floor is then black and
+  // a pixel of it shows R La alone.
   int max_diffuse_bounces = 3;
   // Hemisphere rays per camera sample at the first diffuse point (deeper
   // ones use one).

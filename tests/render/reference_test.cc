@@ -2,7 +2,8 @@
 // water, uniform light-traced irradiance under flat water with its analytic
 // value, flux conservation, the dry board's radiance, the pen's umbra, the
 // radiance of a floor seen through water (L / n^2, Fresnel both ways,
-// Beer-Lambert, total internal reflection), the lens inversion,
+// Beer-Lambert, total internal reflection), the sky on a floor under flat
+// water and the floor-surface return series, the lens inversion,
 // determinism across thread counts and option checks.
 #include "render/reference/reference.h"
 
@@ -567,6 +568,196 @@ TEST(ReferenceRenderTest, FloorThroughWaterFollowsTheRadianceLaw) {
     std::printf("through water band %d: measured %.5f expected %.5f (%.4f)\n",
                 b, measured[b], expected, measured[b] / expected);
     EXPECT_NEAR(measured[b] / expected, 1.0, 0.01) << "band " << b;
+  }
+}
+
+// A uniform Lambertian floor of albedo rho under flat water of depth z
+// (index n, absorption sigma per metre) in an unbounded tank, seen from the
+// air straight down. The pixel is R(0) La, the sky's mirror image on the
+// surface, plus the floor's radiance L_f carried out by
+// T(0) / n^2 exp(-sigma z). The floor reflects the irradiance
+//   E_direct, the disc's, through the surface (given),
+//   E_sky = 2 pi int (1 - R_w(t)) n^2 La exp(-sigma z / cos t) cos t sin t dt
+//     over the upward directions in water (angle t from the vertical,
+//     R_w = 1 beyond the critical angle), and
+//   pi r L_f, its own light returned by the surface (Fresnel and total
+//     internal reflection, Beer-Lambert up and back down), with
+//   r = 2 int R_w(t) exp(-2 sigma z / cos t) cos t sin t dt
+//     (0.475 without absorption: DiffuseInternalReflectance in
+//     render/optics.h).
+// The reference gives hemisphere light to a floor point reached after k
+// diffuse bounces only while k < K = max_diffuse_bounces (the last one gets
+// the light-traced disc only), so with q = rho r the floor's radiance is the
+// truncated series
+//   L_f = rho / pi (E_direct sum_{k=0..K} q^k + E_sky sum_{k=0..K-1} q^k),
+// 1 / (1 - q) for both as K grows (Lekner & Dorf, Appl. Opt. 27, 1988).
+struct FlatFloorTerms {
+  double reflected_sky = 0;  // R(0) La
+  double floor = 0;          // T(0) / n^2 exp(-sigma z) L_f
+  double e_sky = 0;          // E_sky
+  double r = 0;              // the surface's return r
+  double sky_series = 0;     // sum_{k=0..K-1} q^k
+  double Pixel() const { return reflected_sky + floor; }
+};
+FlatFloorTerms FlatFloorUnderWater(double rho, double n, double sigma, double z,
+                                   double la, double e_direct,
+                                   int max_diffuse_bounces) {
+  FlatFloorTerms f;
+  // Midpoint rule; the integrands are bounded and continuous (R_w reaches 1
+  // at the critical angle).
+  const int steps = 200000;
+  const double dt = (M_PI / 2) / steps;
+  for (int k = 0; k < steps; ++k) {
+    const double t = (k + 0.5) * dt;
+    const double cs = std::cos(t) * std::sin(t) * dt;
+    const double att = std::exp(-sigma * z / std::cos(t));
+    const double r_w = FresnelByAngles(t, n, 1.0);
+    f.e_sky += 2 * M_PI * (1 - r_w) * n * n * la * att * cs;
+    f.r += 2 * r_w * att * att * cs;
+  }
+  const double q = rho * f.r;
+  double sum_direct = 0, sum_sky = 0, qk = 1;
+  for (int k = 0; k <= max_diffuse_bounces; ++k, qk *= q) {
+    sum_direct += qk;
+    if (k < max_diffuse_bounces) sum_sky += qk;
+  }
+  f.sky_series = sum_sky;
+  const double floor_radiance =
+      rho / M_PI * (e_direct * sum_direct + f.e_sky * sum_sky);
+  const double r0 = FresnelByAngles(0, 1.0, n);
+  f.reflected_sky = r0 * la;
+  f.floor = (1 - r0) / (n * n) * std::exp(-sigma * z) * floor_radiance;
+  return f;
+}
+
+// A 2 m tank (walls out of reach of the floor's returned light), flat water
+// 25 mm deep, a uniform board of albedo rho, an 8 x 8 pixel camera 0.4 m
+// above the centre looking straight down (0.1 degree field).
+ReferenceScene FlatFloorScene(float rho) {
+  ReferenceScene rs;
+  rs.scene.tank.size_x = rs.scene.tank.size_y = 2.0f;
+  rs.scene.tank.wall_height = 0.05f;
+  rs.scene.tank.water_level = 0.025f;
+  rs.table_albedo = {rho, rho, rho};
+  rs.scene.light_in_tank = {0.35, 0.25, 1.0};  // no glint in view
+  rs.camera.width = rs.camera.height = 8;
+  rs.camera.fx = rs.camera.fy = 2000;
+  rs.camera.cx = rs.camera.cy = 3.5;
+  // Camera x along the tank's x, y along -y, z (forward) along -z.
+  glm::dmat4 cam_from_tank(1.0);
+  cam_from_tank[1][1] = -1;
+  cam_from_tank[2][2] = -1;
+  cam_from_tank[3][2] = 0.4;
+  rs.scene.cam_from_tank = cam_from_tank;
+  return rs;
+}
+
+// The disc's irradiance on the floor through flat water (per band).
+double DirectOnFlatFloor(const ReferenceScene& rs, double sigma) {
+  const LightRadiometry rad = ComputeLightRadiometry(rs);
+  const glm::dvec3 l = glm::normalize(rs.scene.light_in_tank);
+  const double theta_l = std::acos(l.z);
+  const double theta_lw = std::asin(std::sin(theta_l) / rs.water_ior);
+  return rad.disc_irradiance * l.z *
+         (1 - FresnelByAngles(theta_l, 1.0, rs.water_ior)) *
+         std::exp(-sigma * rs.scene.tank.water_level / std::cos(theta_lw));
+}
+
+// A dark floor (rho 0.1, return series ~1.05) under flat pure water, seen
+// straight down, sky only (a = 1) and disc only (a = 0), against
+// FlatFloorUnderWater. The sky reaching the floor is E_sky / pi = 0.934 La
+// without absorption: flux through the surface, n^2 T La inside the Snell
+// cone, whose cosine-weighted share of the hemisphere is 1 / n^2. The pixel
+// also holds the sky's mirror image R(0) La = 0.0204 (all that is left with
+// max_diffuse_bounces = 0, checked exactly), 27 % of it at a = 1: the floor
+// term is compared after taking it out.
+TEST(ReferenceRenderTest, SkyOnTheFloorUnderFlatWaterMatchesTheAnalyticValue) {
+  const float rho = 0.1f;
+  ReferenceScene rs = FlatFloorScene(rho);
+  const double n = rs.water_ior, z = rs.scene.tank.water_level;
+  for (const double a : {1.0, 0.0}) {
+    rs.ambient_share = a;
+    const LightRadiometry rad = ComputeLightRadiometry(rs);
+    ReferenceOptions o = FastOptions();
+    o.samples_per_pixel = 256;
+    o.ambient_samples = 8;
+    cv::Mat img;
+    std::string error;
+    ASSERT_TRUE(RenderReference(o, rs, &img, nullptr, &error)) << error;
+    const cv::Scalar measured = cv::mean(img);
+    for (int b = 0; b < 3; ++b) {
+      const double sigma = rs.absorption_per_m[b];
+      const FlatFloorTerms expected = FlatFloorUnderWater(
+          rho, n, sigma, z, rad.sky_radiance, DirectOnFlatFloor(rs, sigma),
+          o.max_diffuse_bounces);
+      const double floor = measured[b] - expected.reflected_sky;
+      std::printf(
+          "flat floor rho %.2f a %.0f band %d: pixel %.5f expected %.5f "
+          "(R La %.5f), floor %.5f expected %.5f (%.4f); E_sky / pi La "
+          "%.4f, r %.4f\n",
+          rho, a, b, measured[b], expected.Pixel(), expected.reflected_sky,
+          floor, expected.floor, floor / expected.floor,
+          a > 0 ? expected.e_sky / (M_PI * rad.sky_radiance) : 0.0, expected.r);
+      EXPECT_NEAR(floor / expected.floor, 1.0, 0.01) << "a " << a << " b " << b;
+    }
+    if (a == 1.0) {
+      // No hemisphere rays: the floor gets no sky, the pixel is the sky's
+      // reflection alone (both Fresnel branches traced at the surface).
+      o.max_diffuse_bounces = 0;
+      ASSERT_TRUE(RenderReference(o, rs, &img, nullptr, &error)) << error;
+      const double r0 = FresnelByAngles(0, 1.0, n);
+      for (int b = 0; b < 3; ++b) {
+        EXPECT_NEAR(cv::mean(img)[b] / (r0 * rad.sky_radiance), 1.0, 1e-5);
+      }
+    }
+  }
+}
+
+// A bright floor (rho 0.88) under flat water, sky only: over a third of its
+// light is returned light, so what is pinned is the series with
+// Beer-Lambert on every return trip. Absorption (1, 5, 20) per metre over
+// the 25 mm depth takes r from 0.475 to 0.415, 0.259 and 0.059 (the totally
+// reflected rays are the slanted ones, with the longest paths), the
+// converged series 1 / (1 - rho r) from 1.72 to 1.58, 1.30 and 1.05. At the
+// default three diffuse bounces the reference sums the truncated series
+// 1 + q + q^2; at 16 it has converged (q^16 < 1e-6).
+TEST(ReferenceRenderTest, BrightFloorUnderFlatWaterSumsTheReturnSeries) {
+  const float rho = 0.88f;
+  ReferenceScene rs = FlatFloorScene(rho);
+  rs.ambient_share = 1.0;
+  rs.absorption_per_m = {1.0f, 5.0f, 20.0f};
+  const double n = rs.water_ior, z = rs.scene.tank.water_level;
+  const LightRadiometry rad = ComputeLightRadiometry(rs);
+  for (const int bounces : {3, 16}) {
+    ReferenceOptions o = FastOptions();
+    o.samples_per_pixel = 256;
+    o.ambient_samples = 8;
+    o.max_diffuse_bounces = bounces;
+    cv::Mat img;
+    std::string error;
+    ASSERT_TRUE(RenderReference(o, rs, &img, nullptr, &error)) << error;
+    const cv::Scalar measured = cv::mean(img);
+    for (int b = 0; b < 3; ++b) {
+      const double sigma = rs.absorption_per_m[b];
+      const FlatFloorTerms expected =
+          FlatFloorUnderWater(rho, n, sigma, z, rad.sky_radiance, 0.0, bounces);
+      // The floor term with the series of clear water (no absorption on
+      // the return trips), to show what the test tells apart.
+      const FlatFloorTerms clear =
+          FlatFloorUnderWater(rho, n, 0.0, z, rad.sky_radiance, 0.0, bounces);
+      const double no_return_absorption =
+          expected.floor * clear.sky_series / expected.sky_series;
+      const double floor = measured[b] - expected.reflected_sky;
+      std::printf(
+          "bright floor K %d band %d: pixel %.5f expected %.5f, floor %.5f "
+          "expected %.5f (%.4f; without absorption on the returns %.4f), r "
+          "%.4f, series %.4f\n",
+          bounces, b, measured[b], expected.Pixel(), floor, expected.floor,
+          floor / expected.floor, floor / no_return_absorption, expected.r,
+          expected.sky_series);
+      EXPECT_NEAR(floor / expected.floor, 1.0, 0.01)
+          << "bounces " << bounces << " band " << b;
+    }
   }
 }
 

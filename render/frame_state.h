@@ -26,6 +26,8 @@ enum TextureUnit : int {
   kUnitVideo = 5,
   kUnitReceiver = 7,
   kUnitOverlay = 8,
+  kUnitFloorReturn = 9,
+  kUnitFloorSurround = 10,
 };
 
 // The height texture's mapping (HeightTexturePass).

@@ -172,13 +172,6 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
     s.floor_sun[c] = static_cast<float>(
         (1.0 - a) * DirectTransmittance(cos_l, o.ior, sigma, d));
   }
-  const double r_int = DiffuseInternalReflectance(o.ior);
-  const double cos_c = std::sqrt(1.0 - 1.0 / (double(o.ior) * o.ior));
-  const double round_trip = 2.0 * (2.0 * d / cos_c);
-  for (int c = 0; c < 3; ++c) {
-    s.internal_reflectance[c] = static_cast<float>(
-        r_int * std::exp(-o.absorption_per_m[c] * round_trip));
-  }
   s.inv_n2 = static_cast<float>(1.0 / (double(o.ior) * o.ior));
   s.glass_transmittance =
       static_cast<float>((1.0 - FresnelReflectance(1.0, 1.0, o.glass_ior)) *
@@ -187,6 +180,89 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   s.inv_alpha2 = static_cast<float>(1.0 / (alpha * alpha));
   s.glint_peak = static_cast<float>((1.0 - a) / (cos_l * alpha * alpha));
   return s;
+}
+
+FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
+                                  double size_y, double depth, int nx, int ny,
+                                  int rays, double surround_radiance) {
+  FloorReturnMap map;
+  map.nx = nx;
+  map.ny = ny;
+  map.returned.assign(static_cast<size_t>(nx) * ny, glm::vec3(0.0f));
+  map.surround.assign(map.returned.size(), glm::vec3(0.0f));
+  const double n = o.ior, ng = o.glass_ior;
+  const double hx = 0.5 * size_x, hy = 0.5 * size_y;
+  const glm::dvec3 sigma(o.absorption_per_m);
+  // Stratified cosine-weighted directions (Hammersley in the unit disc,
+  // lifted to the hemisphere), the same for every texel.
+  std::vector<glm::dvec3> dirs(rays);
+  for (int k = 0; k < rays; ++k) {
+    unsigned b = static_cast<unsigned>(k);
+    b = (b << 16) | (b >> 16);
+    b = ((b & 0x55555555u) << 1) | ((b & 0xAAAAAAAAu) >> 1);
+    b = ((b & 0x33333333u) << 2) | ((b & 0xCCCCCCCCu) >> 2);
+    b = ((b & 0x0F0F0F0Fu) << 4) | ((b & 0xF0F0F0F0u) >> 4);
+    b = ((b & 0x00FF00FFu) << 8) | ((b & 0xFF00FF00u) >> 8);
+    const double u = (k + 0.5) / rays, v = b * (1.0 / 4294967296.0);
+    const double r = std::sqrt(u), phi = 2.0 * 3.14159265358979 * v;
+    dirs[k] = {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u)};
+  }
+  // Reflectance of a side wall seen from the water at cos_i: water-glass,
+  // then glass-air (1 beyond the glass's critical angle).
+  auto wall_reflectance = [&](double cos_i) {
+    const double r1 = FresnelReflectance(cos_i, n, ng);
+    const double sin2_g = (n / ng) * (n / ng) * (1.0 - cos_i * cos_i);
+    if (sin2_g >= 1.0) return 1.0;
+    const double r2 = FresnelReflectance(std::sqrt(1.0 - sin2_g), ng, 1.0);
+    return 1.0 - (1.0 - r1) * (1.0 - r2);
+  };
+  for (int j = 0; j < ny; ++j) {
+    for (int i = 0; i < nx; ++i) {
+      const glm::dvec3 start(-hx + (i + 0.5) * size_x / nx,
+                             -hy + (j + 0.5) * size_y / ny, 0.0);
+      glm::dvec3 sum(0.0), outside(0.0);
+      for (const glm::dvec3& d0 : dirs) {
+        glm::dvec3 p = start, d = d0;
+        double weight = 1.0, length = 0.0;
+        for (int event = 0; event < 64 && weight > 1e-4; ++event) {
+          const double tz = d.z > 0 ? (depth - p.z) / d.z
+                                    : (d.z < 0 ? -p.z / d.z : 1e30);
+          const double tx = d.x > 0 ? (hx - p.x) / d.x
+                                    : (d.x < 0 ? (-hx - p.x) / d.x : 1e30);
+          const double ty = d.y > 0 ? (hy - p.y) / d.y
+                                    : (d.y < 0 ? (-hy - p.y) / d.y : 1e30);
+          const double t = std::min(tz, std::min(tx, ty));
+          p += t * d;
+          length += t;
+          if (t == tz && d.z < 0) {
+            sum += weight * glm::exp(-sigma * length);  // back on the floor
+            break;
+          }
+          if (t == tz) {
+            weight *= FresnelReflectance(d.z, n, 1.0);
+            d.z = -d.z;
+          } else {
+            const bool x_wall = t == tx;
+            const double r = wall_reflectance(std::abs(x_wall ? d.x : d.y));
+            // Out through the glass: the board around the tank below, the
+            // sky above.
+            outside += weight * (1.0 - r) * glm::exp(-sigma * length) *
+                       (d.z < 0 ? surround_radiance : double(o.ambient_share));
+            weight *= r;
+            if (x_wall) {
+              d.x = -d.x;
+            } else {
+              d.y = -d.y;
+            }
+          }
+        }
+      }
+      const size_t at = static_cast<size_t>(j) * nx + i;
+      map.returned[at] = glm::vec3(sum / double(rays));
+      map.surround[at] = glm::vec3(outside / double(rays));
+    }
+  }
+  return map;
 }
 
 }  // namespace ripple::render

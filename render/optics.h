@@ -14,6 +14,7 @@
 
 #include <glm/glm.hpp>
 #include <string>
+#include <vector>
 
 #include "geometry/camera_model.h"
 
@@ -100,7 +101,7 @@ struct WaterOptics {
 // vectors), for a tank of rest depth `depth_m` under a light towards
 // `light_in_tank` (z > 0, normalised inside). The shader combines, for a
 // floor point of video colour V seen through the surface:
-//   V * (floor_sky + floor_sun * caustics * shadow) / (1 - V * R_int) / n^2,
+//   V * (floor_sky + floor_sun * caustics * shadow) / (1 - V * R) / n^2,
 // i.e. the sky and the direct light reaching the floor through the flat
 // surface (relative to the dry board), the floor<->surface inter-reflection
 // (total internal reflection sends light back onto the floor) and radiance's
@@ -109,11 +110,6 @@ struct WaterOptics {
 struct WaterShading {
   glm::vec3 floor_sky{0.0f};  // a * SkyTransmittance per band
   glm::vec3 floor_sun{0.0f};  // (1 - a) * DirectTransmittance per band
-  // DiffuseInternalReflectance(n) times the absorption of one round trip
-  // floor -> surface -> floor of the totally reflected light, per band: the
-  // legs of a Lambertian floor's light beyond the critical angle theta_c
-  // average depth / cos(theta) = 2 depth / cos(theta_c) each.
-  glm::vec3 internal_reflectance{0.0f};
   float inv_n2 = 1;  // 1 / n^2
   // A floor point seen through a glass wall from inside the water: what the
   // video shows beyond it, times the glass's two interfaces at normal
@@ -127,6 +123,31 @@ struct WaterShading {
 };
 WaterShading ComputeWaterShading(const WaterOptics& optics, double depth_m,
                                  const glm::dvec3& light_in_tank);
+
+// The share of a floor point's (Lambertian) light that the water sends back
+// onto the floor, per band, in the tank's box: rays leave the floor
+// cosine-distributed and are followed through specular events only, the
+// surface at rest reflecting by Fresnel (totally beyond the critical angle)
+// and the side walls by a thin glass slab's Fresnel (water-glass, then
+// glass-air, totally beyond its critical angle), until they come back down
+// to the floor, with Beer-Lambert along the way. In an unbounded layer this
+// is DiffuseInternalReflectance less the absorption; near walls and in a
+// small tank part of the light leaves through the glass. By reciprocity the
+// same directions bring the surroundings' light in: what leaves through a
+// wall going down lands on the board around the tank (radiance
+// `surround_radiance`), going up it sees the sky (radiance a). A fixed,
+// stratified set of `rays` directions per texel (deterministic).
+struct FloorReturnMap {
+  int nx = 0, ny = 0;  // texels over the tank floor, row j along y
+  // nx * ny, RGB: the share of the floor's light returned to it, and the
+  // irradiance the walls let in from the surroundings (relative to the dry
+  // board's, pi).
+  std::vector<glm::vec3> returned, surround;
+};
+FloorReturnMap ComputeFloorReturn(const WaterOptics& optics, double size_x_m,
+                                  double size_y_m, double depth_m, int nx,
+                                  int ny, int rays,
+                                  double surround_radiance = 0.85);
 
 }  // namespace ripple::render
 

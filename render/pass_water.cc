@@ -17,12 +17,13 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   const Program& p = s->program;
   s->common.Resolve(p);  // leaves p bound
   glUniform1f(p.Uniform("u_env_distance"), options.reflection_distance_m);
+  glUniform1i(p.Uniform("u_floor_return"), kUnitFloorReturn);
+  glUniform1i(p.Uniform("u_floor_surround"), kUnitFloorSurround);
   glUniform1f(p.Uniform("u_ior"), options.optics.ior);
   SetUniform(p.Uniform("u_sigma"), options.optics.absorption_per_m);
   SetUniform(p.Uniform("u_scatter"), options.optics.scatter_color);
   s->floor_sky = p.Uniform("u_floor_sky");
   s->floor_sun = p.Uniform("u_floor_sun");
-  s->internal_reflectance = p.Uniform("u_internal_reflectance");
   s->inv_n2 = p.Uniform("u_inv_n2");
   s->glass_t = p.Uniform("u_glass_t");
   s->glint_peak = p.Uniform("u_glint_peak");
@@ -30,7 +31,27 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   return true;
 }
 
+void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
+  if (floor_return_tank_ && floor_return_tank_->size_x == tank.size_x &&
+      floor_return_tank_->size_y == tank.size_y &&
+      floor_return_tank_->water_level == tank.water_level) {
+    return;
+  }
+  const FloorReturnMap map =
+      ComputeFloorReturn(options_.optics, tank.size_x, tank.size_y,
+                         tank.water_level, kReturnNx, kReturnNy, kReturnRays);
+  // Uploaded on their own unit: AllocTexture binds to the active one.
+  glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
+  AllocTexture(&floor_return_, GL_RGB32F, map.nx, map.ny, GL_RGB, GL_FLOAT,
+               GL_LINEAR, GL_CLAMP_TO_EDGE, map.returned.data());
+  glActiveTexture(GL_TEXTURE0 + kUnitFloorSurround);
+  AllocTexture(&floor_surround_, GL_RGB32F, map.nx, map.ny, GL_RGB, GL_FLOAT,
+               GL_LINEAR, GL_CLAMP_TO_EDGE, map.surround.data());
+  floor_return_tank_ = tank;
+}
+
 bool WaterPass::Create(const Options& options, std::string* error) {
+  options_ = options;
   for (int v = 0; v < kVariants; ++v) {
     std::string defines;
     if (v & kShadows) defines += "#define SHADOWS 1\n";
@@ -115,11 +136,15 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   // (b) One shading per marked pixel, in the water's screen rectangle: the
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
+  UpdateFloorReturn(f.scene->tank);
+  glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
+  glBindTexture(GL_TEXTURE_2D, floor_return_.id());
+  glActiveTexture(GL_TEXTURE0 + kUnitFloorSurround);
+  glBindTexture(GL_TEXTURE_2D, floor_surround_.id());
   shading.common.Set(shading.program, f, f.clip_from_tank);
   const WaterShading& w = f.shading;
   SetUniform(shading.floor_sky, w.floor_sky);
   SetUniform(shading.floor_sun, w.floor_sun);
-  SetUniform(shading.internal_reflectance, w.internal_reflectance);
   glUniform1f(shading.inv_n2, w.inv_n2);
   glUniform1f(shading.glass_t, w.glass_transmittance);
   glUniform1f(shading.glint_peak, w.glint_peak);

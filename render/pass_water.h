@@ -11,6 +11,7 @@
 #define RIPPLE_RENDER_PASS_WATER_H_
 
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 
 #include "render/frame_state.h"
@@ -33,6 +34,10 @@ class WaterPass {
   // holds something.
   void Draw(const FrameState& f, bool have_video);
 
+  // Texels of the floor-return map (optics.h) over the tank floor, and the
+  // directions traced per texel; recomputed when the tank changes.
+  static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 512;
+
  private:
   // Variant bits: one program per combination of these effects.
   enum Variant : int {
@@ -46,12 +51,18 @@ class WaterPass {
     Program program;
     CommonUniforms common;
     // Per-frame optics (FrameState::shading).
-    GLint floor_sky = -1, floor_sun = -1, internal_reflectance = -1,
-          inv_n2 = -1, glass_t = -1, glint_peak = -1, inv_alpha2 = -1;
+    GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
+          glint_peak = -1, inv_alpha2 = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);
 
+  // The floor-return map for `tank` (computed on the CPU, once per tank).
+  void UpdateFloorReturn(const TankGeometry& tank);
+
+  Options options_;
+  Texture floor_return_, floor_surround_;
+  std::optional<TankGeometry> floor_return_tank_;
   Shading variants_[kVariants];
   Shading flat_;  // Effects::flat_water: one colour, whatever the effects
   Program depth_;

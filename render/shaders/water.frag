@@ -29,7 +29,10 @@ uniform float u_ior;             // water
 // Constants of the floor's light (optics.h, WaterShading).
 uniform vec3 u_floor_sky;        // sky through the flat surface to the floor
 uniform vec3 u_floor_sun;        // direct light through the flat surface
-uniform vec3 u_internal_reflectance;
+// Over the floor (optics.h, ComputeFloorReturn): the share of the floor's
+// light the water returns to it, and the surroundings' light the walls let in.
+uniform sampler2D u_floor_return;
+uniform sampler2D u_floor_surround;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
@@ -87,8 +90,10 @@ void main() {
   // The floor under water, relative to the dry floor the video shows; a
   // wall hit shows the video beyond the glass.
   vec3 floor_light = u_floor_sky + u_floor_sun * lit;
+  vec3 returned = textureLod(u_floor_return, floor_uv, 0.0).rgb;
+  floor_light += textureLod(u_floor_surround, floor_uv, 0.0).rgb;
   vec3 under = video * floor_light * u_inv_n2 /
-               (1.0 - u_internal_reflectance * min(video, vec3(0.95)));
+               (1.0 - returned * min(video, vec3(0.95)));
   vec3 below = tf <= tw ? under : video * u_glass_t;
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);

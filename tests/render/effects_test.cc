@@ -4,12 +4,14 @@
 // state every pass returns to.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <opencv2/core.hpp>
 #include <vector>
 
 #include "render/gl.h"
+#include "render/pass_water.h"
 #include "render/renderer.h"
 #include "tests/render/golden.h"
 #include "tests/render/render_test_util.h"
@@ -257,13 +259,37 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
     const WaterShading w = ComputeWaterShading(
         o.optics, s.inputs.tank.water_level, s.inputs.light_in_tank);
     const double fresnel = FresnelReflectance(cos_v, 1.0, o.optics.ior);
-    (void)eye;
+    // The floor-return map, bilinear at the floor point (tank centre).
+    const FloorReturnMap ret = ComputeFloorReturn(
+        o.optics, s.inputs.tank.size_x, s.inputs.tank.size_y,
+        s.inputs.tank.water_level, internal::WaterPass::kReturnNx,
+        internal::WaterPass::kReturnNy, internal::WaterPass::kReturnRays);
+    const glm::dvec3 floor_point =
+        eye + ray * ((eye.z - s.inputs.tank.water_level) / -ray.z) +
+        glm::dvec3(0.0);
+    auto bilinear = [&](const std::vector<glm::vec3>& m, int c) {
+      const double fx = (floor_point.x / s.inputs.tank.size_x + 0.5) * ret.nx - 0.5;
+      const double fy = (floor_point.y / s.inputs.tank.size_y + 0.5) * ret.ny - 0.5;
+      const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+      const double ax = fx - x0, ay = fy - y0;
+      auto at = [&](int x, int y) {
+        x = std::clamp(x, 0, ret.nx - 1);
+        y = std::clamp(y, 0, ret.ny - 1);
+        return double(m[y * ret.nx + x][c]);
+      };
+      return (1 - ay) * ((1 - ax) * at(x0, y0) + ax * at(x0 + 1, y0)) +
+             ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
+    };
+    auto returned = [&](int c) { return bilinear(ret.returned, c); };
+    auto surround = [&](int c) { return bilinear(ret.surround, c); };
     for (int c = 0; c < 3; ++c) {  // B, G, R
       const int rgb = 2 - c;
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
-      double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb]) * w.inv_n2 /
-                 (1 - w.internal_reflectance[rgb] * video);
+      double x = video *
+                 (w.floor_sky[rgb] + w.floor_sun[rgb] + surround(rgb)) *
+                 w.inv_n2 /
+                 (1 - returned(rgb) * video);
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
       x = HighlightShoulder(x, o.optics.highlight_knee);
       const double expected =

@@ -143,14 +143,34 @@ TEST(OpticsTest, WaterShadingConstants) {
   EXPECT_NEAR(s.glint_peak, (1 - o.ambient_share) / (0.8 * alpha * alpha),
               1e-3);
   EXPECT_NEAR(s.inv_n2, 1 / (o.ior * o.ior), 1e-6);
-  // The totally reflected light's round trip (2 x 2 depth / cos theta_c)
-  // costs red more than blue.
-  const double cos_c = std::sqrt(1 - 1 / (o.ior * o.ior));
-  EXPECT_NEAR(s.internal_reflectance.r,
-              DiffuseInternalReflectance(o.ior) *
-                  std::exp(-o.absorption_per_m.r * 4 * 0.025 / cos_c),
-              1e-6);
-  EXPECT_LT(s.internal_reflectance.r, s.internal_reflectance.b);
+}
+
+// The floor's light that comes back to it: in a wide layer without
+// absorption it is the diffuse internal reflectance; absorption takes more
+// red than blue; the walls let part of it out, more near them, and let the
+// surroundings' light in.
+TEST(OpticsTest, FloorReturnInTheTanksBox) {
+  WaterOptics clear;
+  WaterOptics no_absorption = clear;
+  no_absorption.absorption_per_m = glm::vec3(0.0f);
+  const FloorReturnMap wide =
+      ComputeFloorReturn(no_absorption, 50.0, 50.0, 0.025, 1, 1, 4096);
+  EXPECT_NEAR(wide.returned[0].g, DiffuseInternalReflectance(1.333), 0.005);
+  const FloorReturnMap tank =
+      ComputeFloorReturn(clear, 0.17, 0.11, 0.025, 17, 11, 1024);
+  const glm::vec3 centre = tank.returned[5 * 17 + 8];
+  const glm::vec3 edge = tank.returned[5 * 17 + 0];
+  EXPECT_LT(centre.r, centre.b);
+  EXPECT_LT(centre.b, wide.returned[0].b);
+  EXPECT_GT(centre.b, 0.15);
+  EXPECT_LT(edge.b, centre.b);
+  // Symmetric about the tank's centre (to the stratified sampling's noise).
+  EXPECT_NEAR(tank.returned[2 * 17 + 3].g, tank.returned[8 * 17 + 13].g, 2e-3);
+  // What leaves through the walls is replaced by the surroundings' light: a
+  // board as bright as the floor nearly makes up for it; the wide layer has
+  // no walls to let light in.
+  EXPECT_NEAR(wide.surround[0].g, 0.0, 1e-3);
+  EXPECT_GT(tank.surround[5 * 17 + 8].g, 0.1);
 }
 
 TEST(OpticsTest, OptionsAndNames) {

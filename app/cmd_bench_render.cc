@@ -34,6 +34,7 @@ struct RenderBenchArgs {
   std::string gl = "egl";
   std::vector<std::string> scenes;  // empty: all
   std::string export_dir;
+  std::string water_look = "clear";
   int samples_per_pixel = 64;
   int light_paths_per_texel = 64;
   int sky_rays = 4;
@@ -94,7 +95,7 @@ cv::Mat RenderRealTime(render::Renderer* r, const render::SceneInputs& in) {
 bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
                      const render::RendererOptions& ro, const cv::Mat& video,
                      const cv::Mat& reference, const cv::Mat& realtime,
-                     std::string* error) {
+                     const cv::Mat& flip_map, std::string* error) {
   if (!MakeDirectories(dir, error)) return false;
   const reference::ReferenceScene& r = s.scene;
   const render::SceneInputs& in = r.scene;
@@ -108,7 +109,10 @@ bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
   }
   cv::Mat albedo8;
   r.floor_albedo.convertTo(albedo8, CV_16UC3, 65535.0);
+  cv::Mat flip16;
+  flip_map.convertTo(flip16, CV_16U, 65535.0);
   bool ok = cv::imwrite(dir + "/video.png", video) &&
+            cv::imwrite(dir + "/flip.png", flip16) &&
             cv::imwrite(dir + "/floor_albedo.png", albedo8) &&
             cv::imwrite(dir + "/reference.png", reference) &&
             cv::imwrite(dir + "/realtime.png", realtime);
@@ -163,7 +167,8 @@ bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
     y << "    ";
     mat("tank_from_obstacle", o.tank_from_obstacle);
   }
-  y << "renders: {reference: reference.png, realtime: realtime.png}\n"
+  y << "renders: {reference: reference.png, realtime: realtime.png, "
+       "flip: flip.png (16-bit, FLIP x 65535)}\n"
     << "realtime_look: " << render::WaterLookName(ro.optics.look) << "\n";
   y.close();
   if (!ok || !y) {
@@ -212,6 +217,11 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!ctx) return Fail(kExitRuntime, error);
   render::RendererOptions ro;
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
+  render::WaterLook look;
+  if (!render::ParseWaterLook(args.water_look, &look))
+    return Fail(kExitBadInput,
+                "--water-look '" + args.water_look + "': use clear or pool");
+  ro.optics = render::WaterOptics::ForLook(look);
   const render::WaterOptics& optics = ro.optics;
 
   reference::ReferenceOptions refo;
@@ -244,9 +254,10 @@ int RunBenchRender(const RenderBenchArgs& args) {
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
-    // One set of physical parameters for both renderers.
-    rs.absorption_per_m = {optics.absorption_per_m.b, optics.absorption_per_m.g,
-                           optics.absorption_per_m.r};
+    // One set of physical parameters for both renderers; the reference's
+    // water is pure water whatever the real-time look.
+    const glm::vec3 pure = render::WaterOptics().absorption_per_m;
+    rs.absorption_per_m = {pure.b, pure.g, pure.r};
     rs.ambient_share = optics.ambient_share;
     rs.light_angular_radius_rad = optics.light_angular_radius_rad;
     rs.water_ior = optics.ior;
@@ -360,7 +371,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
       return Fail(kExitRuntime, "cannot write '" + png + "'");
     if (!args.export_dir.empty() &&
         !WriteSceneFiles(args.export_dir + "/" + s.name, s, ro, video,
-                         reference, realtime, &error))
+                         reference, realtime, flip_map, &error))
       return Fail(kExitRuntime, error);
   }
   csv.close();
@@ -390,6 +401,10 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "grazing lens; default all)");
   sub->add_option("--export", args->export_dir,
                   "Also write each scene's inputs and both renders here");
+  sub->add_option("--water-look", args->water_look,
+                  "The real-time renderer's optics: clear or pool (the "
+                  "reference is always pure water)")
+      ->capture_default_str();
   sub->add_option("--spp", args->samples_per_pixel,
                   "Reference samples per pixel")
       ->capture_default_str()

@@ -225,12 +225,12 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
         glm::dvec3 p = start, d = d0;
         double weight = 1.0, length = 0.0;
         for (int event = 0; event < 64 && weight > 1e-4; ++event) {
-          const double tz = d.z > 0 ? (depth - p.z) / d.z
-                                    : (d.z < 0 ? -p.z / d.z : 1e30);
-          const double tx = d.x > 0 ? (hx - p.x) / d.x
-                                    : (d.x < 0 ? (-hx - p.x) / d.x : 1e30);
-          const double ty = d.y > 0 ? (hy - p.y) / d.y
-                                    : (d.y < 0 ? (-hy - p.y) / d.y : 1e30);
+          const double tz =
+              d.z > 0 ? (depth - p.z) / d.z : (d.z < 0 ? -p.z / d.z : 1e30);
+          const double tx =
+              d.x > 0 ? (hx - p.x) / d.x : (d.x < 0 ? (-hx - p.x) / d.x : 1e30);
+          const double ty =
+              d.y > 0 ? (hy - p.y) / d.y : (d.y < 0 ? (-hy - p.y) / d.y : 1e30);
           const double t = std::min(tz, std::min(tx, ty));
           p += t * d;
           length += t;

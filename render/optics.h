@@ -110,7 +110,7 @@ struct WaterOptics {
 struct WaterShading {
   glm::vec3 floor_sky{0.0f};  // a * SkyTransmittance per band
   glm::vec3 floor_sun{0.0f};  // (1 - a) * DirectTransmittance per band
-  float inv_n2 = 1;  // 1 / n^2
+  float inv_n2 = 1;           // 1 / n^2
   // A floor point seen through a glass wall from inside the water: what the
   // video shows beyond it, times the glass's two interfaces at normal
   // incidence.

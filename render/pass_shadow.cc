@@ -38,14 +38,16 @@ ShadowKey ShadowKey::Of(const SceneInputs& scene) {
   return key;
 }
 
-bool ShadowKey::Differs(const SceneInputs& s, double move, double turn) const {
+bool ShadowKey::Differs(const SceneInputs& s, double move, double turn,
+                        bool with_pen) const {
   if (!SameTank(tank, s.tank)) return true;
   if (glm::length(light - glm::normalize(s.light_in_tank)) > 1e-9) return true;
-  if (pen_visible != s.pen_visible) return true;
-  if (s.pen_visible && (PoseMoved(tank_from_pen, s.tank_from_pen, move, turn) ||
-                        pen.cube_edge != s.pen.cube_edge ||
-                        pen.shaft_radius != s.pen.shaft_radius ||
-                        pen.shaft_length != s.pen.shaft_length)) {
+  if (with_pen && pen_visible != s.pen_visible) return true;
+  if (with_pen && s.pen_visible &&
+      (PoseMoved(tank_from_pen, s.tank_from_pen, move, turn) ||
+       pen.cube_edge != s.pen.cube_edge ||
+       pen.shaft_radius != s.pen.shaft_radius ||
+       pen.shaft_length != s.pen.shaft_length)) {
     return true;
   }
   if (obstacles.size() != s.obstacles.size()) return true;
@@ -143,7 +145,7 @@ bool ShadowPass::Create(const Options& options, std::string* error) {
 
 bool ShadowPass::NeedsRedraw(const SceneInputs& scene) const {
   return !key_ || key_->Differs(scene, options_.move_threshold_m,
-                                options_.turn_threshold_rad);
+                                options_.turn_threshold_rad, options_.pen);
 }
 
 void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids) {
@@ -163,7 +165,8 @@ void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids) {
     glPolygonOffset(1.5f, 2.0f);
     glUseProgram(depth_.id());
     solids.Draw(scene, depth_model_,
-                clip_from_shadow * transform_.shadow_from_tank, true, true);
+                clip_from_shadow * transform_.shadow_from_tank, true,
+                options_.pen);
   }
 
   // What the water sees of it: floor and surface shadow over the tank.

@@ -4,8 +4,9 @@
 // pixel: r = light reaching the floor, g = light reaching the surface at rest.
 //
 // Redraw key (ShadowKey): the tank geometry, the light direction, whether
-// the pen is visible, its geometry and pose, and each obstacle's shape, size
-// and pose; poses count as moved beyond RendererOptions'
+// the pen is visible, its geometry and pose (when it casts:
+// RendererOptions::pen_casts_shadow), and each obstacle's shape, size and
+// pose; poses count as moved beyond RendererOptions'
 // shadow_move_threshold_m / shadow_turn_threshold_rad. The light is fixed in
 // the tank frame, so the camera moving never redraws it.
 #ifndef RIPPLE_RENDER_PASS_SHADOW_H_
@@ -36,7 +37,9 @@ struct ShadowKey {
   // True if `scene` would draw a visibly different map: something changed,
   // or a pose moved by more than `move_m` (metres) or turned by more than
   // `turn_rad` (radians).
-  bool Differs(const SceneInputs& scene, double move_m, double turn_rad) const;
+  // `with_pen`: the pen is one of the casters.
+  bool Differs(const SceneInputs& scene, double move_m, double turn_rad,
+               bool with_pen) const;
 };
 
 // The orthographic light frame fitted to the tank box (receivers) with room
@@ -50,6 +53,7 @@ class ShadowPass {
     int map_size = 512;  // texels per side
     double move_threshold_m = 0.001;
     double turn_threshold_rad = 0.0087;
+    bool pen = true;  // the pen casts (RendererOptions::pen_casts_shadow)
   };
   bool Create(const Options& options, std::string* error);
 

@@ -18,6 +18,13 @@ bool WallsPass::Create(const Options& options, std::string* error) {
                options.optics.absorption_per_m);
     SetUniform(programs_[i].Uniform("u_scatter"), options.optics.scatter_color);
     glUniform1f(programs_[i].Uniform("u_glass_ior"), options.optics.glass_ior);
+    glUniform1f(programs_[i].Uniform("u_ior"), options.optics.ior);
+    glUniform1i(programs_[i].Uniform("u_floor_return"), kUnitFloorReturn);
+    glUniform1i(programs_[i].Uniform("u_floor_surround"), kUnitFloorSurround);
+    floor_sky_[i] = programs_[i].Uniform("u_floor_sky");
+    floor_sun_[i] = programs_[i].Uniform("u_floor_sun");
+    inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
+    caustics_on_[i] = programs_[i].Uniform("u_caustics_on");
   }
   return true;
 }
@@ -39,6 +46,10 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls) {
                              -hs.x - cam.x};
   for (int pass = 0; pass < 2; ++pass) {
     common_[pass].Set(programs_[pass], f, f.clip_from_tank);
+    SetUniform(floor_sky_[pass], f.shading.floor_sky);
+    SetUniform(floor_sun_[pass], f.shading.floor_sun);
+    glUniform1f(inv_n2_[pass], f.shading.inv_n2);
+    glUniform1f(caustics_on_[pass], f.scene->effects.caustics ? 1.f : 0.f);
     for (int i = 0; i < 4; ++i) {
       if ((outside[i] > 0) == (pass == 1)) {
         glDrawArrays(GL_TRIANGLES, 6 * i, 6);

@@ -29,6 +29,8 @@ class WallsPass {
  private:
   Program programs_[2];  // far walls, front walls
   CommonUniforms common_[2];
+  GLint floor_sky_[2] = {-1, -1}, floor_sun_[2] = {-1, -1},
+        inv_n2_[2] = {-1, -1}, caustics_on_[2] = {-1, -1};
 };
 
 }  // namespace ripple::render::internal

@@ -89,6 +89,7 @@ bool Renderer::Impl::Init(std::string* error) {
   shadow_options.map_size = o.shadow_map_size;
   shadow_options.move_threshold_m = o.shadow_move_threshold_m;
   shadow_options.turn_threshold_rad = o.shadow_turn_threshold_rad;
+  shadow_options.pen = o.pen_casts_shadow;
   internal::CausticsPass::Options caustics_options;
   caustics_options.map_size = o.caustics_map_size;
   caustics_options.threads = o.caustics_threads;

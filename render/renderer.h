@@ -62,6 +62,12 @@ struct RendererOptions {
   // pixels outside the water are the video's own.
   Transfer video_transfer = Transfer::kSrgb;
   float reflection_distance_m = 0.3f;  // distance to the reflected scene
+  // The real pen's shadow is in the video already (the real lamp casts it on
+  // the real board), so by default only the virtual obstacles cast shadows:
+  // re-casting the pen doubled its shadow (`ripple bench render`, FLIP with
+  // shadows on and off). true: the pen casts too (and its moves redraw the
+  // shadow map).
+  bool pen_casts_shadow = false;
   glm::vec3 obstacle_albedo{0.80f, 0.76f, 0.70f};  // linear RGB
 
   enum class Timing {

@@ -1,14 +1,20 @@
-// Glass walls with dual-source blending, dst' = src0 + dst * src1, so the
-// water behind a front wall tints each colour channel by its own
-// transmittance: the user sees the water's volume through the glass.
-// FRONT_WALL (defined for walls facing the camera) adds the water volume.
+// Glass walls with dual-source blending, dst' = src0 + dst * src1.
 //
-// The blend happens on encoded values. The physics (Beer-Lambert through
-// the water's volume, the glass's exact Fresnel reflection of the sky) is
-// computed in linear light as dst * T + C and carried into the encoded
-// output to first order: with sRGB, src1 = T^(1/2.2) (exact for a power-law
-// transfer) and src0 = C times the transfer's slope at mid-grey (0.66).
-// Rims and the meniscus line are mixed towards white in encoded space.
+// FRONT_WALL (walls facing the camera), below the water: what the glass
+// shows is computed here in linear light and replaces dst (src1 = 0): the
+// ray refracts into the water at the glass (a thin slab refracts as air to
+// water), crosses the volume (Beer-Lambert) and ends on the floor (lit like
+// the floor under the surface: sky and light through it, caustics, shadow,
+// the water's return and the surroundings through the walls, and radiance's
+// 1/n^2 on the way out), on the underside of the surface (its mirror image of
+// the floor, or the sky through it) or on the far wall (what lies beyond).
+//
+// Elsewhere (above the water, walls facing away) the blend runs on encoded
+// values: the glass's exact Fresnel reflection of the sky is computed in
+// linear light as dst * T + C and carried into the encoded output to first
+// order: with sRGB, src1 = T^(1/2.2) (exact for a power-law transfer) and
+// src0 = C times the transfer's slope at mid-grey (0.66). Rims and the
+// meniscus line are mixed towards white in encoded space.
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;
@@ -17,6 +23,38 @@ layout(location = 0, index = 1) out vec4 o_transmit;
 uniform vec3 u_sigma;
 uniform vec3 u_scatter;
 uniform float u_glass_ior;
+uniform float u_ior;
+uniform sampler2D u_scene;
+uniform sampler2D u_receiver;
+uniform sampler2D u_floor_return;
+uniform sampler2D u_floor_surround;
+uniform float u_caustics_on;
+uniform vec3 u_floor_sky;
+uniform vec3 u_floor_sun;
+uniform float u_inv_n2;
+
+// The floor at `f` under water, seen from the water: as in water.frag.
+vec3 FloorUnderWater(vec3 f) {
+  vec3 video = textureLod(u_scene, VideoUv(f), 0.0).rgb;
+  vec2 uv = f.xy / u_tank.xy + 0.5;
+  float lit = mix(1.0, textureLod(u_receiver, uv, 0.0).r, u_shadow_on) *
+              mix(1.0, textureLod(u_caustics, uv, 0.0).r, u_caustics_on);
+  vec3 light = u_floor_sky + u_floor_sun * lit +
+               textureLod(u_floor_surround, uv, 0.0).rgb;
+  vec3 returned = textureLod(u_floor_return, uv, 0.0).rgb;
+  return video * light / (1.0 - returned * min(video, vec3(0.95)));
+}
+
+// Distance along `d` from `p` (inside the tank) to the floor, the rest
+// surface and the side walls.
+vec4 Exits(vec3 p, vec3 d) {
+  vec2 half_size = 0.5 * u_tank.xy;
+  float tf = d.z < -1e-5 ? -p.z / d.z : 1e3;
+  float ts = d.z > 1e-5 ? (u_tank.w - p.z) / d.z : 1e3;
+  float tx = abs(d.x) > 1e-6 ? (sign(d.x) * half_size.x - p.x) / d.x : 1e3;
+  float ty = abs(d.y) > 1e-6 ? (sign(d.y) * half_size.y - p.y) / d.y : 1e3;
+  return vec4(tf, ts, max(min(tx, ty), 0.0), 0.0);
+}
 
 void main() {
   vec3 v = normalize(v_p - u_cam_in_tank);
@@ -24,21 +62,47 @@ void main() {
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
   vec3 color = vec3(0.0);
   vec3 transmit = vec3(1.0);
+  vec3 nrm = normalize(v_n);
+  float cos_v = abs(dot(v, nrm));
+  float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
 #ifdef FRONT_WALL
   if (v_p.z < surface) {
-    // Path through the water until the floor, the surface or a far wall.
-    float tf = v.z < -1e-5 ? -v_p.z / v.z : 1e3;
-    float ts = v.z > 1e-5 ? (u_tank.w - v_p.z) / v.z : 1e3;
-    float tx = abs(v.x) > 1e-6 ? (sign(v.x) * half_size.x - v_p.x) / v.x : 1e3;
-    float ty = abs(v.y) > 1e-6 ? (sign(v.y) * half_size.y - v_p.y) / v.y : 1e3;
-    float len = max(min(min(tf, ts), min(tx, ty)), 0.0);
-    transmit = exp(-u_sigma * len);
-    color = u_scatter * (1.0 - transmit);
+    // Into the water through the glass (n_glass cancels for a thin slab).
+    vec3 d = refract(v, nrm, 1.0 / u_ior);
+    vec3 p = v_p - nrm * 1e-5;
+    vec4 e = Exits(p, d);
+    vec3 seen;
+    float len;
+    if (e.x <= e.y && e.x <= e.z) {  // the floor
+      len = e.x;
+      seen = FloorUnderWater(p + d * e.x) * u_inv_n2;
+    } else if (e.y <= e.z) {  // the surface from below
+      vec3 q = p + d * e.y;
+      float r_s = FresnelExact(d.z, 1.0 / u_ior);
+      vec3 d2 = vec3(d.xy, -d.z);
+      vec4 e2 = Exits(q, d2);
+      float t2 = min(e2.x, e2.z);
+      len = e.y + t2;
+      seen = r_s * FloorUnderWater(q + d2 * t2) * u_inv_n2 +
+             (1.0 - r_s) * vec3(u_ambient);
+    } else {  // through the far wall: what lies beyond
+      len = e.z;
+      seen = textureLod(u_scene, VideoUv(p + d * e.z), 0.0).rgb;
+    }
+    vec3 transmit_w = exp(-u_sigma * len);
+    vec3 lin = (seen * transmit_w + u_scatter * (1.0 - transmit_w)) *
+                   (1.0 - r_glass) +
+               vec3(u_ambient * r_glass);
+    float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
+    float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
+    float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));
+    float a = clamp(0.45 * rim + 0.3 * meniscus, 0.0, 1.0);
+    o_color = vec4(mix(EncodeOutput(lin), vec3(0.9, 0.97, 1.0), a), 1.0);
+    o_transmit = vec4(0.0);
+    return;
   }
 #endif
   // Glass: two faces reflecting the sky (radiance u_ambient) by Fresnel.
-  float cos_v = abs(dot(v, normalize(v_n)));
-  float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
   color = color * (1.0 - r_glass) + vec3(u_ambient * r_glass);
   transmit *= 1.0 - r_glass;
   if (u_srgb_out > 0.5) {

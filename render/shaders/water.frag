@@ -78,7 +78,22 @@ void main() {
   float tw = max(min(tx, ty), 0.0);
   float th = min(tf, tw);
   vec3 f = p + t * th;
-  vec3 video = textureLod(u_scene, VideoUv(f), 0.0).rgb;  // linear
+  // At a side wall (a thin glass slab refracts as water to air): beyond the
+  // critical angle the glass mirrors the ray back onto the floor; otherwise
+  // it leaves the tank and meets the board behind it (or the sky: the
+  // ambient radiance) and the video is read there.
+  bool on_floor = tf <= tw;
+  vec3 wall_n = tx < ty ? vec3(-sign(t.x), 0.0, 0.0) : vec3(0.0, -sign(t.y), 0.0);
+  vec3 out_dir = refract(t, wall_n, u_ior);
+  bool mirrored = !on_floor && dot(out_dir, out_dir) < 0.5;
+  vec3 t2 = reflect(t, wall_n);
+  float tf2 = t2.z < -1e-5 ? -f.z / t2.z : 0.0;
+  float leave = out_dir.z < -1e-5 ? -f.z / out_dir.z : 0.0;
+  vec3 beyond = f + out_dir * leave;
+  vec3 lookup = on_floor ? f : (mirrored ? f + t2 * tf2 : beyond);
+  th += mirrored ? tf2 : 0.0;
+  f = on_floor || mirrored ? lookup : f;
+  vec3 video = textureLod(u_scene, VideoUv(lookup), 0.0).rgb;  // linear
   float lit = 1.0;
   vec2 floor_uv = f.xy / u_tank.xy + 0.5;
 #ifdef SHADOWS
@@ -94,7 +109,8 @@ void main() {
   floor_light += textureLod(u_floor_surround, floor_uv, 0.0).rgb;
   vec3 under = video * floor_light * u_inv_n2 /
                (1.0 - returned * min(video, vec3(0.95)));
-  vec3 below = tf <= tw ? under : video * u_glass_t;
+  vec3 beyond_light = out_dir.z < -1e-5 ? video : vec3(u_ambient);
+  vec3 below = on_floor || mirrored ? under : beyond_light * u_glass_t;
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

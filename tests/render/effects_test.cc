@@ -60,7 +60,9 @@ TEST(EffectsTest, ShadowOnAndOff) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = SceneWithOccluders(View::kFront);
   s.inputs.effects.pen_occludes = false;  // the video has no pen here
-  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  RendererOptions o;
+  o.pen_casts_shadow = true;  // nor its shadow
+  auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);
   ASSERT_NE(r, nullptr);
   const cv::Mat on = RenderScene(r.get(), s.inputs);
   EXPECT_TRUE(r->timings().shadow_redrawn);
@@ -129,7 +131,9 @@ TEST(EffectsTest, RedrawsOnlyWhenInputsChange) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = SceneWithOccluders(View::kFront);
   s.inputs.effects.caustics = true;
-  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  RendererOptions o;
+  o.pen_casts_shadow = true;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);
   ASSERT_NE(r, nullptr);
   SceneInputs& in = s.inputs;
   ASSERT_TRUE(r->Render(in));
@@ -175,6 +179,20 @@ TEST(EffectsTest, RedrawsOnlyWhenInputsChange) {
   in.pen_visible = false;  // pen leaves the view
   ASSERT_TRUE(r->Render(in));
   EXPECT_TRUE(r->timings().shadow_redrawn);
+
+  // By default the pen does not cast (its real shadow is in the video), so
+  // its moves do not redraw the map.
+  auto d = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(d, nullptr);
+  in.pen_visible = true;
+  ASSERT_TRUE(d->Render(in));
+  EXPECT_TRUE(d->timings().shadow_redrawn);
+  in.tank_from_pen[3].y += 0.01;
+  ASSERT_TRUE(d->Render(in));
+  EXPECT_FALSE(d->timings().shadow_redrawn);
+  in.pen_visible = false;
+  ASSERT_TRUE(d->Render(in));
+  EXPECT_FALSE(d->timings().shadow_redrawn);
 }
 
 // Without a height field the water is flat, and under a vertical light flat
@@ -268,9 +286,12 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
         eye + ray * ((eye.z - s.inputs.tank.water_level) / -ray.z) +
         glm::dvec3(0.0);
     auto bilinear = [&](const std::vector<glm::vec3>& m, int c) {
-      const double fx = (floor_point.x / s.inputs.tank.size_x + 0.5) * ret.nx - 0.5;
-      const double fy = (floor_point.y / s.inputs.tank.size_y + 0.5) * ret.ny - 0.5;
-      const int x0 = static_cast<int>(std::floor(fx)), y0 = static_cast<int>(std::floor(fy));
+      const double fx =
+          (floor_point.x / s.inputs.tank.size_x + 0.5) * ret.nx - 0.5;
+      const double fy =
+          (floor_point.y / s.inputs.tank.size_y + 0.5) * ret.ny - 0.5;
+      const int x0 = static_cast<int>(std::floor(fx)),
+                y0 = static_cast<int>(std::floor(fy));
       const double ax = fx - x0, ay = fy - y0;
       auto at = [&](int x, int y) {
         x = std::clamp(x, 0, ret.nx - 1);
@@ -286,10 +307,8 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
       const int rgb = 2 - c;
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
-      double x = video *
-                 (w.floor_sky[rgb] + w.floor_sun[rgb] + surround(rgb)) *
-                 w.inv_n2 /
-                 (1 - returned(rgb) * video);
+      double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb] + surround(rgb)) *
+                 w.inv_n2 / (1 - returned(rgb) * video);
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
       x = HighlightShoulder(x, o.optics.highlight_knee);
       const double expected =

@@ -27,7 +27,6 @@ enum TextureUnit : int {
   kUnitReceiver = 7,
   kUnitOverlay = 8,
   kUnitFloorReturn = 9,
-  kUnitFloorSurround = 10,
 };
 
 // The height texture's mapping (HeightTexturePass).

@@ -1,5 +1,7 @@
 #include "render/pass_walls.h"
 
+#include <algorithm>
+
 #include "render/gl_state.h"
 #include "render/shaders.h"
 
@@ -20,16 +22,18 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     glUniform1f(programs_[i].Uniform("u_glass_ior"), options.optics.glass_ior);
     glUniform1f(programs_[i].Uniform("u_ior"), options.optics.ior);
     glUniform1i(programs_[i].Uniform("u_floor_return"), kUnitFloorReturn);
-    glUniform1i(programs_[i].Uniform("u_floor_surround"), kUnitFloorSurround);
     floor_sky_[i] = programs_[i].Uniform("u_floor_sky");
     floor_sun_[i] = programs_[i].Uniform("u_floor_sun");
     inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
     caustics_on_[i] = programs_[i].Uniform("u_caustics_on");
+    z_range_[i] = programs_[i].Uniform("u_z_range");
+    return_tint_[i] = programs_[i].Uniform("u_return_tint");
   }
   return true;
 }
 
-void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls) {
+void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
+                     const glm::vec3& return_tint) {
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -44,16 +48,29 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls) {
   const glm::dvec3 hs(0.5 * t.size_x, 0.5 * t.size_y, 0);
   const double outside[4] = {-hs.y - cam.y, cam.x - hs.x, cam.y - hs.y,
                              -hs.x - cam.x};
+  // Front walls: under the water (and a margin for the waves) with the
+  // FRONT_WALL program, above it with the plain one, which is the same
+  // there.
+  const float split =
+      std::min(t.wall_height, t.water_level + kFrontWallMargin_m);
   for (int pass = 0; pass < 2; ++pass) {
     common_[pass].Set(programs_[pass], f, f.clip_from_tank);
     SetUniform(floor_sky_[pass], f.shading.floor_sky);
     SetUniform(floor_sun_[pass], f.shading.floor_sun);
     glUniform1f(inv_n2_[pass], f.shading.inv_n2);
+    SetUniform(return_tint_[pass], return_tint);
     glUniform1f(caustics_on_[pass], f.scene->effects.caustics ? 1.f : 0.f);
     for (int i = 0; i < 4; ++i) {
-      if ((outside[i] > 0) == (pass == 1)) {
-        glDrawArrays(GL_TRIANGLES, 6 * i, 6);
+      const bool front = outside[i] > 0;
+      if (pass == 1 && !front) continue;
+      if (pass == 0 && front) {
+        glUniform2f(z_range_[pass], split, t.wall_height);
+      } else if (pass == 1) {
+        glUniform2f(z_range_[pass], 0.0f, split);
+      } else {
+        glUniform2f(z_range_[pass], 0.0f, t.wall_height);
       }
+      glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }
   }
   glBindVertexArray(0);

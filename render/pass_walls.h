@@ -24,13 +24,20 @@ class WallsPass {
   };
   bool Create(const Options& options, std::string* error);
   // Draws into the bound output, depth-tested against what is there.
-  void Draw(const FrameState& f, const TankWallsMesh& walls);
+  // `return_tint`: the water pass's floor-return band ratio (its map is
+  // bound on kUnitFloorReturn).
+  void Draw(const FrameState& f, const TankWallsMesh& walls,
+            const glm::vec3& return_tint);
 
  private:
   Program programs_[2];  // far walls, front walls
   CommonUniforms common_[2];
   GLint floor_sky_[2] = {-1, -1}, floor_sun_[2] = {-1, -1},
-        inv_n2_[2] = {-1, -1}, caustics_on_[2] = {-1, -1};
+        inv_n2_[2] = {-1, -1}, caustics_on_[2] = {-1, -1},
+        z_range_[2] = {-1, -1}, return_tint_[2] = {-1, -1};
+  // Height above the rest level up to which front walls take the
+  // FRONT_WALL program (waves rarely rise higher at the glass).
+  static constexpr float kFrontWallMargin_m = 0.006f;
 };
 
 }  // namespace ripple::render::internal

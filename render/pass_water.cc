@@ -18,7 +18,7 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->common.Resolve(p);  // leaves p bound
   glUniform1f(p.Uniform("u_env_distance"), options.reflection_distance_m);
   glUniform1i(p.Uniform("u_floor_return"), kUnitFloorReturn);
-  glUniform1i(p.Uniform("u_floor_surround"), kUnitFloorSurround);
+
   glUniform1f(p.Uniform("u_ior"), options.optics.ior);
   SetUniform(p.Uniform("u_sigma"), options.optics.absorption_per_m);
   SetUniform(p.Uniform("u_scatter"), options.optics.scatter_color);
@@ -27,6 +27,7 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->inv_n2 = p.Uniform("u_inv_n2");
   s->glass_t = p.Uniform("u_glass_t");
   s->glint_peak = p.Uniform("u_glint_peak");
+  s->return_tint = p.Uniform("u_return_tint");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
   return true;
 }
@@ -40,13 +41,20 @@ void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
   const FloorReturnMap map =
       ComputeFloorReturn(options_.optics, tank.size_x, tank.size_y,
                          tank.water_level, kReturnNx, kReturnNy, kReturnRays);
-  // Uploaded on their own unit: AllocTexture binds to the active one.
+  // One fetch: rgb = the surroundings' light, a = the green band's return;
+  // the other bands' return is green's times the map's mean ratio (their
+  // extra absorption on the way, nearly uniform over the floor).
+  std::vector<glm::vec4> packed(map.returned.size());
+  glm::dvec3 mean(0.0);
+  for (size_t i = 0; i < packed.size(); ++i) {
+    packed[i] = glm::vec4(map.surround[i], map.returned[i].g);
+    mean += glm::dvec3(map.returned[i]);
+  }
+  return_tint_ = glm::vec3(mean / std::max(mean.g, 1e-12));
+  // On its own unit: AllocTexture binds to the active one.
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
-  AllocTexture(&floor_return_, GL_RGB32F, map.nx, map.ny, GL_RGB, GL_FLOAT,
-               GL_LINEAR, GL_CLAMP_TO_EDGE, map.returned.data());
-  glActiveTexture(GL_TEXTURE0 + kUnitFloorSurround);
-  AllocTexture(&floor_surround_, GL_RGB32F, map.nx, map.ny, GL_RGB, GL_FLOAT,
-               GL_LINEAR, GL_CLAMP_TO_EDGE, map.surround.data());
+  AllocTexture(&floor_return_, GL_RGBA16F, map.nx, map.ny, GL_RGBA, GL_FLOAT,
+               GL_LINEAR, GL_CLAMP_TO_EDGE, packed.data());
   floor_return_tank_ = tank;
 }
 
@@ -139,8 +147,6 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   UpdateFloorReturn(f.scene->tank);
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
   glBindTexture(GL_TEXTURE_2D, floor_return_.id());
-  glActiveTexture(GL_TEXTURE0 + kUnitFloorSurround);
-  glBindTexture(GL_TEXTURE_2D, floor_surround_.id());
   shading.common.Set(shading.program, f, f.clip_from_tank);
   const WaterShading& w = f.shading;
   SetUniform(shading.floor_sky, w.floor_sky);
@@ -149,6 +155,7 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   glUniform1f(shading.glass_t, w.glass_transmittance);
   glUniform1f(shading.glint_peak, w.glint_peak);
   glUniform1f(shading.inv_alpha2, w.inv_alpha2);
+  SetUniform(shading.return_tint, return_tint_);
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   state.StencilMask(0);

@@ -33,6 +33,8 @@ class WaterPass {
   // frame's textures bound to their units. `have_video`: the reflection map
   // holds something.
   void Draw(const FrameState& f, bool have_video);
+  // The return's ratio of the bands to green (see UpdateFloorReturn).
+  const glm::vec3& return_tint() const { return return_tint_; }
 
   // Texels of the floor-return map (optics.h) over the tank floor, and the
   // directions traced per texel; recomputed when the tank changes.
@@ -52,7 +54,7 @@ class WaterPass {
     CommonUniforms common;
     // Per-frame optics (FrameState::shading).
     GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
-          glint_peak = -1, inv_alpha2 = -1;
+          glint_peak = -1, inv_alpha2 = -1, return_tint = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);
@@ -61,7 +63,8 @@ class WaterPass {
   void UpdateFloorReturn(const TankGeometry& tank);
 
   Options options_;
-  Texture floor_return_, floor_surround_;
+  Texture floor_return_;  // RGBA: surroundings' light, green return
+  glm::vec3 return_tint_{1.0f};
   std::optional<TankGeometry> floor_return_tank_;
   Shading variants_[kVariants];
   Shading flat_;  // Effects::flat_water: one colour, whatever the effects

@@ -241,7 +241,7 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.BindFrameTextures();
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video());
-  if (fx.walls) m.walls.Draw(f, m.walls_mesh);
+  if (fx.walls) m.walls.Draw(f, m.walls_mesh, m.water.return_tint());
   m.timings.main_ms = m.timer.End(PassTimer::kMain);
 
   if (m.options.timing == RendererOptions::Timing::kGpuQueries) {

@@ -26,22 +26,22 @@ uniform float u_glass_ior;
 uniform float u_ior;
 uniform sampler2D u_scene;
 uniform sampler2D u_receiver;
-uniform sampler2D u_floor_return;
-uniform sampler2D u_floor_surround;
+uniform sampler2D u_floor_return;  // as in water.frag
+uniform vec3 u_return_tint;
 uniform float u_caustics_on;
 uniform vec3 u_floor_sky;
 uniform vec3 u_floor_sun;
 uniform float u_inv_n2;
 
-// The floor at `f` under water, seen from the water: as in water.frag.
-vec3 FloorUnderWater(vec3 f) {
-  vec3 video = textureLod(u_scene, VideoUv(f), 0.0).rgb;
+// The floor at `f` under water, of video colour `video`, seen from the
+// water: as in water.frag.
+vec3 FloorUnderWater(vec3 f, vec3 video) {
   vec2 uv = f.xy / u_tank.xy + 0.5;
   float lit = mix(1.0, textureLod(u_receiver, uv, 0.0).r, u_shadow_on) *
               mix(1.0, textureLod(u_caustics, uv, 0.0).r, u_caustics_on);
-  vec3 light = u_floor_sky + u_floor_sun * lit +
-               textureLod(u_floor_surround, uv, 0.0).rgb;
-  vec3 returned = textureLod(u_floor_return, uv, 0.0).rgb;
+  vec4 back = textureLod(u_floor_return, uv, 0.0);
+  vec3 light = u_floor_sky + u_floor_sun * lit + back.rgb;
+  vec3 returned = back.a * u_return_tint;
   return video * light / (1.0 - returned * min(video, vec3(0.95)));
 }
 
@@ -71,24 +71,22 @@ void main() {
     vec3 d = refract(v, nrm, 1.0 / u_ior);
     vec3 p = v_p - nrm * 1e-5;
     vec4 e = Exits(p, d);
-    vec3 seen;
-    float len;
-    if (e.x <= e.y && e.x <= e.z) {  // the floor
-      len = e.x;
-      seen = FloorUnderWater(p + d * e.x) * u_inv_n2;
-    } else if (e.y <= e.z) {  // the surface from below
-      vec3 q = p + d * e.y;
-      float r_s = FresnelExact(d.z, 1.0 / u_ior);
-      vec3 d2 = vec3(d.xy, -d.z);
-      vec4 e2 = Exits(q, d2);
-      float t2 = min(e2.x, e2.z);
-      len = e.y + t2;
-      seen = r_s * FloorUnderWater(q + d2 * t2) * u_inv_n2 +
-             (1.0 - r_s) * vec3(u_ambient);
-    } else {  // through the far wall: what lies beyond
-      len = e.z;
-      seen = textureLod(u_scene, VideoUv(p + d * e.z), 0.0).rgb;
-    }
+    // One lookup: the floor straight ahead, the floor in the surface's
+    // mirror (seen from below), or what lies beyond the far wall.
+    bool to_floor = e.x <= e.y && e.x <= e.z;
+    bool to_surface = !to_floor && e.y <= e.z;
+    vec3 q = p + d * e.y;
+    vec3 d2 = vec3(d.xy, -d.z);
+    vec4 e2 = Exits(q, d2);
+    float t2 = min(e2.x, e2.z);
+    float r_s = to_surface ? FresnelExact(d.z, 1.0 / u_ior) : 1.0;
+    vec3 at = to_floor ? p + d * e.x : (to_surface ? q + d2 * t2 : p + d * e.z);
+    float len = to_floor ? e.x : (to_surface ? e.y + t2 : e.z);
+    vec3 video = textureLod(u_scene, VideoUv(at), 0.0).rgb;
+    vec3 floor_seen = FloorUnderWater(at, video) * u_inv_n2;
+    vec3 seen = to_floor || to_surface
+                    ? r_s * floor_seen + (1.0 - r_s) * vec3(u_ambient)
+                    : video;
     vec3 transmit_w = exp(-u_sigma * len);
     vec3 lin = (seen * transmit_w + u_scatter * (1.0 - transmit_w)) *
                    (1.0 - r_glass) +

@@ -29,10 +29,11 @@ uniform float u_ior;             // water
 // Constants of the floor's light (optics.h, WaterShading).
 uniform vec3 u_floor_sky;        // sky through the flat surface to the floor
 uniform vec3 u_floor_sun;        // direct light through the flat surface
-// Over the floor (optics.h, ComputeFloorReturn): the share of the floor's
-// light the water returns to it, and the surroundings' light the walls let in.
+// Over the floor (optics.h, ComputeFloorReturn): rgb the surroundings' light
+// the walls let in, a the share of the floor's (green) light the water
+// returns to it; u_return_tint the other bands' ratio to green.
 uniform sampler2D u_floor_return;
-uniform sampler2D u_floor_surround;
+uniform vec3 u_return_tint;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
@@ -105,8 +106,9 @@ void main() {
   // The floor under water, relative to the dry floor the video shows; a
   // wall hit shows the video beyond the glass.
   vec3 floor_light = u_floor_sky + u_floor_sun * lit;
-  vec3 returned = textureLod(u_floor_return, floor_uv, 0.0).rgb;
-  floor_light += textureLod(u_floor_surround, floor_uv, 0.0).rgb;
+  vec4 back = textureLod(u_floor_return, floor_uv, 0.0);
+  vec3 returned = back.a * u_return_tint;
+  floor_light += back.rgb;
   vec3 under = video * floor_light * u_inv_n2 /
                (1.0 - returned * min(video, vec3(0.95)));
   vec3 beyond_light = out_dir.z < -1e-5 ? video : vec3(u_ambient);

@@ -49,8 +49,6 @@ int RunDemo(DemoArgs args) {
     return Fail(kExitBadInput, "--gl glfw: the demo is headless (egl, osmesa)");
   const PipelineOptions& options = args.pipeline.options;
   const render::Backend* backend = &options.backend;
-  // The frames come from the synthetic renderer: linear 8-bit values.
-  camera->transfer = geometry::Transfer::kLinear;
   auto pipeline = Pipeline::Create(*camera, *rig, options, &error);
   if (!pipeline) return Fail(kExitRuntime, error);
 
@@ -61,6 +59,8 @@ int RunDemo(DemoArgs args) {
   std::vector<synth::FrameSpec> frames;
   if (!synth::MakeSequence(*camera, *rig, seq, &frames, &error))
     return Fail(kExitBadInput, error);
+  // A webcam's frames: sRGB-encoded (the camera file's default transfer).
+  for (synth::FrameSpec& f : frames) f.imaging.srgb = true;
   // Idle tail: the pen has left, the same camera keeps looking.
   const synth::FrameSpec last = frames.back();
   for (int i = 0; i < args.idle_frames; ++i) {

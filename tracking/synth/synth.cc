@@ -665,6 +665,17 @@ RenderedFrame SceneRenderer::Render(const SceneState& scene,
     rng.fill(n, cv::RNG::NORMAL, 0.0, imaging.read_noise_dn);
     img += n;
   }
+  if (imaging.srgb) {
+    // IEC 61966-2-1 on the signal in [0, 1] (DN / 255).
+    img.forEach<cv::Vec3f>([](cv::Vec3f& p, const int*) {
+      for (int c = 0; c < 3; ++c) {
+        const float l = std::clamp(p[c] / 255.0f, 0.0f, 1.0f);
+        p[c] = 255.0f * (l <= 0.0031308f
+                             ? 12.92f * l
+                             : 1.055f * std::pow(l, 1.0f / 2.4f) - 0.055f);
+      }
+    });
+  }
   RenderedFrame frame;
   img.convertTo(frame.image, CV_8UC3);  // rounds and saturates
   if (imaging.jpeg_quality > 0) {

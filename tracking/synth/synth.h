@@ -43,7 +43,7 @@ struct SceneState {
 
 // Imaging applied after the exact geometric render, in this order:
 // exposure gain, defocus (Gaussian), linear motion blur, shot + read noise,
-// 8-bit quantisation, JPEG round trip.
+// the sRGB transfer (when `srgb`), 8-bit quantisation, JPEG round trip.
 struct ImagingOptions {
   double exposure = 1.0;          // multiplies the scene radiance
   double defocus_sigma_px = 0.0;  // Gaussian PSF sigma, pixels
@@ -52,6 +52,10 @@ struct ImagingOptions {
   double read_noise_dn = 0.0;     // Gaussian sigma, 8-bit digital numbers
   double shot_noise_gain = 0.0;   // DN per electron; 0 disables shot noise
   int jpeg_quality = 0;           // 1..100 round trip; 0 disables
+  // Encode the (noisy, linear) signal with the sRGB transfer before
+  // quantising, as a webcam's image processor does; false: 8-bit values
+  // linear in radiance (the camera file then says `transfer: linear`).
+  bool srgb = false;
 };
 
 struct RenderedFrame {

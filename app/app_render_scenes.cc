@@ -4,6 +4,7 @@
 
 #include "app/app_obstacles.h"
 #include "app/app_water.h"
+#include "geometry/check.h"
 #include "sim/water_factory.h"
 #include "tracking/synth/synth.h"
 
@@ -125,6 +126,13 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
 
 }  // namespace
 
+const std::vector<std::string>& RenderSceneNames() {
+  static const std::vector<std::string> names = {"flat",   "ring",    "demo_a",
+                                                 "demo_b", "demo_c",  "tiles",
+                                                 "pen",    "grazing", "lens"};
+  return names;
+}
+
 bool MakeRenderScenes(const RenderScenesOptions& options,
                       const tracking::Camera& camera, const tracking::Rig& rig,
                       std::vector<RenderBenchScene>* scenes,
@@ -242,6 +250,12 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     s.heights = Ring(s.scene.scene.tank, cell, 0.0004, 0.008, 0.02, ring_x,
                      ring_y, &s.scene.scene.water);
     scenes->push_back(s);
+  }
+  RIPPLE_CHECK(scenes->size() == RenderSceneNames().size(),
+               "RenderSceneNames() lists every scene");
+  for (size_t i = 0; i < scenes->size(); ++i) {
+    RIPPLE_CHECK((*scenes)[i].name == RenderSceneNames()[i],
+                 "RenderSceneNames() in build order");
   }
   return true;
 }

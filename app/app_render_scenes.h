@@ -26,6 +26,9 @@ struct RenderBenchScene {
   std::shared_ptr<std::vector<float>> heights;
 };
 
+// The scenes' names, in the order MakeRenderScenes builds them.
+const std::vector<std::string>& RenderSceneNames();
+
 struct RenderScenesOptions {
   int width = 640, height = 480;  // pixels
   // Board albedo texels per metre (0.25 mm texels by default).

@@ -188,6 +188,15 @@ int RunBenchRender(const RenderBenchArgs& args) {
   const auto backend = render::ParseBackend(args.gl);
   if (!backend || *backend == render::Backend::kGlfw)
     return Fail(kExitBadInput, "--gl '" + args.gl + "': use egl or osmesa");
+  for (const std::string& n : args.scenes) {
+    const auto& known = RenderSceneNames();
+    if (std::find(known.begin(), known.end(), n) == known.end())
+      return Fail(kExitBadInput, "--scenes: unknown scene '" + n + "'");
+  }
+  render::WaterLook look;
+  if (!render::ParseWaterLook(args.water_look, &look))
+    return Fail(kExitBadInput,
+                "--water-look '" + args.water_look + "': use clear or pool");
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
@@ -198,11 +207,6 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!MakeRenderScenes(so, *camera, *rig, &scenes, &error))
     return Fail(kExitBadInput, error);
   if (!args.scenes.empty()) {
-    for (const std::string& n : args.scenes) {
-      if (std::none_of(scenes.begin(), scenes.end(),
-                       [&](const RenderBenchScene& s) { return s.name == n; }))
-        return Fail(kExitBadInput, "--scenes: unknown scene '" + n + "'");
-    }
     scenes.erase(std::remove_if(scenes.begin(), scenes.end(),
                                 [&](const RenderBenchScene& s) {
                                   return std::find(args.scenes.begin(),
@@ -217,10 +221,6 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!ctx) return Fail(kExitRuntime, error);
   render::RendererOptions ro;
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
-  render::WaterLook look;
-  if (!render::ParseWaterLook(args.water_look, &look))
-    return Fail(kExitBadInput,
-                "--water-look '" + args.water_look + "': use clear or pool");
   ro.optics = render::WaterOptics::ForLook(look);
   const render::WaterOptics& optics = ro.optics;
 

@@ -220,6 +220,10 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   r = RunRipple("bench render --scenes puddle --out " + dir + "/bad");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown scene 'puddle'"));
+  r = RunRipple("bench render --water-look murky --out " + dir + "/bad2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--water-look 'murky'"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad2"));
 }
 
 }  // namespace ripple

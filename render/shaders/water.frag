@@ -103,8 +103,10 @@ void main() {
 #ifdef CAUSTICS
   lit *= textureLod(u_caustics, floor_uv, 0.0).r;
 #endif
-  // The floor under water, relative to the dry floor the video shows; a
-  // wall hit shows the video beyond the glass.
+  // The floor under water, relative to the dry floor the video shows: the
+  // sky and the light through the surface, the surroundings through the
+  // walls, the water's return and 1/n^2; a ray out through a wall sees the
+  // board (the video) or the sky beyond the glass.
   vec3 floor_light = u_floor_sky + u_floor_sun * lit;
   vec4 back = textureLod(u_floor_return, floor_uv, 0.0);
   vec3 returned = back.a * u_return_tint;

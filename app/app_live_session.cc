@@ -220,8 +220,9 @@ void LiveSession::Screenshot() {
 
 void LiveSession::ToggleVideo() {
   if (video_.is_open()) {
-    video_.Close();
-    status_line_ = "composite recording stopped";
+    LoopStop stop;
+    status_line_ =
+        video_.Close(&stop) ? "composite recording stopped" : stop.message;
     return;
   }
   const std::string path =

@@ -57,7 +57,13 @@ void RunFrameLoop(const FrameLoopHooks& hooks, FrameSource* source,
     have_frame = ReadSourceFrame(source, &frame);
   }
   if (!summary->stopped) summary->source_error = source->error();
-  for (FrameSink* sink : sinks) sink->Close();
+  for (FrameSink* sink : sinks) {
+    LoopStop close_stop;
+    if (!sink->Close(&close_stop) && !summary->stopped) {
+      summary->stopped = true;
+      summary->stop = close_stop;
+    }
+  }
 }
 
 }  // namespace ripple::app

@@ -55,8 +55,9 @@ class FrameSink {
   // Takes one processed frame; false ends the loop, with `stop` saying why.
   virtual bool Consume(const LoopFrame& frame, LoopStop* stop) = 0;
   // Finalizes what was written (idempotent); the loop calls it at its end,
-  // whatever ended it.
-  virtual void Close() {}
+  // whatever ended it. False, with `stop` saying why, if what was written
+  // is incomplete.
+  virtual bool Close(LoopStop* stop) { return true; }
 };
 
 // A sink made of a function (timing tables, counters, progress lines).

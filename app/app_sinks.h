@@ -10,6 +10,7 @@
 #include "app/app_loop.h"
 #include "app/app_raw.h"
 #include "app/app_video.h"
+#include "app/command.h"
 #include "tracking/pose_csv.h"
 
 namespace ripple::app {
@@ -33,7 +34,11 @@ class VideoSink : public FrameSink {
   const std::string& codec() const { return video_.codec(); }
   bool WantsComposite(int) const override { return video_.is_open(); }
   bool Consume(const LoopFrame& frame, LoopStop* stop) override;
-  void Close() override { video_.Close(); }
+  bool Close(LoopStop* stop) override {
+    if (video_.Close(&stop->message)) return true;
+    stop->exit_code = kExitRuntime;
+    return false;
+  }
 
  private:
   VideoOut video_;
@@ -65,7 +70,10 @@ class PoseCsvSink : public FrameSink {
  public:
   bool Open(const std::string& path, std::string* error);
   bool Consume(const LoopFrame& frame, LoopStop* stop) override;
-  void Close() override { writer_.Close(); }
+  bool Close(LoopStop*) override {
+    writer_.Close();
+    return true;
+  }
 
  private:
   std::string path_;
@@ -79,7 +87,10 @@ class RawSink : public FrameSink {
  public:
   RawRecorder& recorder() { return raw_; }
   bool Consume(const LoopFrame& frame, LoopStop* stop) override;
-  void Close() override { raw_.Close(); }
+  bool Close(LoopStop*) override {
+    raw_.Close();
+    return true;
+  }
 
  private:
   RawRecorder raw_;

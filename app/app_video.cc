@@ -7,6 +7,28 @@
 
 namespace ripple::app {
 
+bool VerifyVideo(const std::string& path, int expected, std::string* error) {
+  cv::VideoCapture check;
+  int frames = -1;
+  try {
+    if (check.open(path, cv::CAP_FFMPEG)) {
+      frames = static_cast<int>(check.get(cv::CAP_PROP_FRAME_COUNT));
+    }
+  } catch (const cv::Exception&) {
+  }
+  if (frames >= expected) return true;
+  if (error) {
+    *error = frames < 0
+                 ? "video '" + path +
+                       "' cannot be read back after writing (disk "
+                       "full or not writable?)"
+                 : "video '" + path + "' holds " + std::to_string(frames) +
+                       " of the " + std::to_string(expected) +
+                       " frames written (disk full?)";
+  }
+  return false;
+}
+
 VideoOut::VideoOut() = default;
 VideoOut::~VideoOut() { Close(); }
 
@@ -42,6 +64,8 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
           w->isOpened()) {
         writer_ = std::move(w);
         codec_ = c->name;
+        path_ = path;
+        frames_ = 0;
         return true;
       }
     } catch (const cv::Exception&) {
@@ -54,12 +78,16 @@ bool VideoOut::Open(const std::string& path, double fps, cv::Size size,
 bool VideoOut::Write(const cv::Mat& bgr) {
   if (!writer_) return false;
   writer_->write(bgr);
+  ++frames_;
   return true;
 }
 
-void VideoOut::Close() {
-  if (writer_) writer_->release();
+bool VideoOut::Close(std::string* error) {
+  if (!writer_) return true;
+  writer_->release();
   writer_.reset();
+  // cv::VideoWriter reports no write errors: read the result back.
+  return VerifyVideo(path_, frames_, error);
 }
 
 bool VideoOut::is_open() const { return writer_ != nullptr; }

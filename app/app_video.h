@@ -14,6 +14,10 @@ class VideoWriter;
 
 namespace ripple::app {
 
+// Opens `path` and reads its frame count: false with `error` (may be null)
+// if it cannot be opened or holds fewer than `frames` frames.
+bool VerifyVideo(const std::string& path, int frames, std::string* error);
+
 class VideoOut {
  public:
   VideoOut();
@@ -27,13 +31,19 @@ class VideoOut {
   bool Open(const std::string& path, double fps, cv::Size size,
             std::string* error);
   bool Write(const cv::Mat& bgr);
-  void Close();
+  // Finalizes the file, then reads its index back: false with `error` (may
+  // be null) if it cannot be opened or holds fewer frames than were written
+  // (a full disk leaves an MP4 without its index, or a short file).
+  // Idempotent; a second call returns true.
+  bool Close(std::string* error = nullptr);  // VerifyVideo on the file
   bool is_open() const;
   const std::string& codec() const { return codec_; }
+  int frames_written() const { return frames_; }
 
  private:
   std::unique_ptr<cv::VideoWriter> writer_;
-  std::string codec_;
+  std::string codec_, path_;
+  int frames_ = 0;
 };
 
 }  // namespace ripple::app

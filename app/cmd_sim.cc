@@ -367,7 +367,8 @@ int RunSim(SimArgs args) {
       ++written;
     }
   }
-  video.Close();
+  std::string video_error;
+  if (!video.Close(&video_error)) return Fail(kExitRuntime, video_error);
   if (frames_csv && std::fclose(frames_csv) != 0)
     return Fail(kExitRuntime, "cannot write '" + args.out + "/frames.csv'");
   if (!active_p99.empty())

@@ -94,7 +94,8 @@ int RunSynth(const SynthArgs& args) {
                    frames.size());
   }
   std::fprintf(stderr, "\n");
-  video.Close();
+  std::string video_error;
+  if (!video.Close(&video_error)) return Fail(kExitRuntime, video_error);
   if (!csv.Close())
     return Fail(kExitRuntime,
                 "cannot finish '" + args.out + "/groundtruth.csv'");

@@ -165,9 +165,11 @@ int RunTrack(const TrackArgs& args) {
     ++frames;
     if (args.max_frames > 0 && frames >= args.max_frames) break;
   } while (source->Read(&image, &time_s));
-  overlay.Close();
+  std::string overlay_error;
+  const bool overlay_ok = overlay.Close(&overlay_error);
   if (!csv.Close())
     return Fail(kExitRuntime, "cannot finish '" + args.out + "'");
+  if (!overlay_ok) return Fail(kExitRuntime, overlay_error);
   if (!source->error().empty())
     return Fail(kExitRuntime, source->error() + " (poses written for " +
                                   std::to_string(frames) + " frames)");

@@ -1,5 +1,6 @@
 // The `ripple` binary: dispatches to the registered subcommands.
 #include <algorithm>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <opencv2/core/utils/logger.hpp>
@@ -11,6 +12,9 @@ int main(int argc, char** argv) {
   // OpenCV's backend chatter (GStreamer, V4L2 probing) is not for users; our
   // own messages say what failed.
   cv::utils::logging::setLogLevel(cv::utils::logging::LOG_LEVEL_ERROR);
+  // FFmpeg's own lines ("moov atom not found", ...) beside ours likewise;
+  // OPENCV_FFMPEG_LOGLEVEL set by the user (e.g. 24, warnings) wins.
+  setenv("OPENCV_FFMPEG_LOGLEVEL", "-8", /*overwrite=*/0);
   CLI::App app{
       "Ripple: marker-tracked tabletop AR water.\n"
       "Exit codes: 0 success, 1 runtime failure, 2 bad usage or bad input "

@@ -52,7 +52,10 @@ class RecordingSink : public FrameSink {
     }
     return true;
   }
-  void Close() override { ++closed; }
+  bool Close(LoopStop*) override {
+    ++closed;
+    return true;
+  }
   std::vector<int> indices;
   std::vector<double> times;
   int closed = 0;

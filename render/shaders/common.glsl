@@ -58,11 +58,17 @@ float Shadow(vec3 p_tank) {
 
 // Light reaching a floor point through the water: shadowed where the
 // refracted light path enters the surface (occluders above the water) or
-// along the straight path (occluders under it).
+// where it passes through an occluder under the water. Under the surface the
+// light travels along the refracted direction, so that part is tested at
+// two points of the refracted path (a third and two thirds of the way up):
+// an occluder the path crosses contains them or lies towards the light from
+// them. (Testing along the unrefracted direction from the floor point made
+// submerged occluders' shadows longer than refraction allows.)
 float FloorShadow(vec3 f) {
   if (u_shadow_on < 0.5) return 1.0;
-  vec3 s = f - u_light_refracted * (u_tank.w / -u_light_refracted.z);
-  return min(Shadow(s), Shadow(f));
+  vec3 up = -u_light_refracted * (u_tank.w / -u_light_refracted.z);
+  return min(Shadow(f + up), min(Shadow(f + up * (1.0 / 3.0)),
+                                 Shadow(f + up * (2.0 / 3.0))));
 }
 
 

@@ -14,5 +14,7 @@ void main() {
   // The board's normalisation (optics.h): a horizontal, unshadowed surface
   // reads its albedo; the direct share scales with n.l / cos(light).
   float direct = (1.0 - u_ambient) * diffuse / max(u_light.z, 1e-3);
-  o_color = vec4(EncodeOutput(u_albedo * (u_ambient + direct)), 1.0);
+  // Alpha 0 marks the obstacles' pixels for the water, which must not
+  // light them as the floor behind them (video and water write 1).
+  o_color = vec4(EncodeOutput(u_albedo * (u_ambient + direct)), 0.0);
 }

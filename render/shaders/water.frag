@@ -94,7 +94,11 @@ void main() {
   vec3 lookup = on_floor ? f : (mirrored ? f + t2 * tf2 : beyond);
   th += mirrored ? tf2 : 0.0;
   f = on_floor || mirrored ? lookup : f;
-  vec3 video = textureLod(u_scene, VideoUv(lookup), 0.0).rgb;  // linear
+  vec4 seen = textureLod(u_scene, VideoUv(lookup), 0.0);
+  vec3 video = seen.rgb;  // linear
+  // A virtual obstacle in the way (alpha 0, solid.frag) is already lit: the
+  // floor's shadow and caustics behind it do not apply to it.
+  float obstacle = 1.0 - seen.a;
   float lit = 1.0;
   vec2 floor_uv = f.xy / u_tank.xy + 0.5;
 #ifdef SHADOWS
@@ -107,7 +111,7 @@ void main() {
   // sky and the light through the surface, the surroundings through the
   // walls, the water's return and 1/n^2; a ray out through a wall sees the
   // board (the video) or the sky beyond the glass.
-  vec3 floor_light = u_floor_sky + u_floor_sun * lit;
+  vec3 floor_light = u_floor_sky + u_floor_sun * mix(lit, 1.0, obstacle);
   vec4 back = textureLod(u_floor_return, floor_uv, 0.0);
   vec3 returned = back.a * u_return_tint;
   floor_light += back.rgb;

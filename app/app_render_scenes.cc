@@ -6,6 +6,7 @@
 #include "app/app_water.h"
 #include "geometry/check.h"
 #include "sim/water_factory.h"
+#include "tracking/pose.h"
 #include "tracking/synth/synth.h"
 
 namespace ripple::app {
@@ -14,22 +15,9 @@ namespace {
 using Eigen::Vector3d;
 
 // cam_from_tank of a camera at `eye` looking at `target` (tank frame), the
-// image's x axis horizontal: OpenCV's camera frame (x right, y down, z
-// forward).
+// image's x axis horizontal.
 glm::dmat4 LookAt(const Vector3d& eye, const Vector3d& target) {
-  const Vector3d z = (target - eye).normalized();
-  const Vector3d x = z.cross(Vector3d::UnitZ()).normalized();
-  const Vector3d y = z.cross(x);
-  glm::dmat4 m(1.0);
-  for (int c = 0; c < 3; ++c) {
-    m[c][0] = x[c];
-    m[c][1] = y[c];
-    m[c][2] = z[c];
-  }
-  m[3][0] = -x.dot(eye);
-  m[3][1] = -y.dot(eye);
-  m[3][2] = -z.dot(eye);
-  return m;
+  return ToGlm(tracking::LookAt(eye, target, Vector3d::UnitZ()).Inverse());
 }
 
 // tank_from_pen with the tip at `tip_in_tank` and the shaft pointing from
@@ -260,12 +248,16 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
   return true;
 }
 
-cv::Mat WaterMask(const reference::ReferenceScene& scene, bool open_only) {
+void WaterMasks(const reference::ReferenceScene& scene, cv::Mat* water,
+                cv::Mat* open_water) {
   const geometry::CameraModel& cam = scene.camera;
   const render::TankGeometry& t = scene.scene.tank;
   const glm::dmat4 tank_from_cam = glm::inverse(scene.scene.cam_from_tank);
   const glm::dvec3 eye(tank_from_cam[3]);
-  cv::Mat mask(cam.height, cam.width, CV_8U, cv::Scalar(0));
+  water->create(cam.height, cam.width, CV_8U);
+  open_water->create(cam.height, cam.width, CV_8U);
+  water->setTo(0);
+  open_water->setTo(0);
   for (int v = 0; v < cam.height; ++v) {
     for (int u = 0; u < cam.width; ++u) {
       const glm::dvec3 d(tank_from_cam * glm::dvec4((u - cam.cx) / cam.fx,
@@ -277,31 +269,28 @@ cv::Mat WaterMask(const reference::ReferenceScene& scene, bool open_only) {
       if (!(s > 0 && std::abs(p.x) < 0.5 * t.size_x &&
             std::abs(p.y) < 0.5 * t.size_y))
         continue;
-      if (open_only) {
-        // Where the ray from the eye crosses a wall's plane (x = +-X/2 or
-        // y = +-Y/2) below the wall's top, it passed through the glass.
-        bool through_glass = false;
-        for (int axis = 0; axis < 2 && !through_glass; ++axis) {
-          const double half = 0.5 * (axis == 0 ? t.size_x : t.size_y);
-          const double e = axis == 0 ? eye.x : eye.y;
-          const double dd = axis == 0 ? d.x : d.y;
-          for (const double wall : {-half, half}) {
-            if (std::abs(dd) < 1e-12) continue;
-            const double sw = (wall - e) / dd;
-            if (sw <= 0 || sw >= s) continue;
-            const glm::dvec3 q = eye + sw * d;
-            const double across = axis == 0 ? q.y : q.x;
-            const double half_across = 0.5 * (axis == 0 ? t.size_y : t.size_x);
-            if (q.z < t.wall_height && std::abs(across) <= half_across)
-              through_glass = true;
-          }
+      water->at<std::uint8_t>(v, u) = 255;
+      // Where the ray from the eye crosses a wall's plane (x = +-X/2 or
+      // y = +-Y/2) below the wall's top, it passed through the glass.
+      bool through_glass = false;
+      for (int axis = 0; axis < 2 && !through_glass; ++axis) {
+        const double half = 0.5 * (axis == 0 ? t.size_x : t.size_y);
+        const double e = axis == 0 ? eye.x : eye.y;
+        const double dd = axis == 0 ? d.x : d.y;
+        for (const double wall : {-half, half}) {
+          if (std::abs(dd) < 1e-12) continue;
+          const double sw = (wall - e) / dd;
+          if (sw <= 0 || sw >= s) continue;
+          const glm::dvec3 q = eye + sw * d;
+          const double across = axis == 0 ? q.y : q.x;
+          const double half_across = 0.5 * (axis == 0 ? t.size_y : t.size_x);
+          if (q.z < t.wall_height && std::abs(across) <= half_across)
+            through_glass = true;
         }
-        if (through_glass) continue;
       }
-      mask.at<std::uint8_t>(v, u) = 255;
+      if (!through_glass) open_water->at<std::uint8_t>(v, u) = 255;
     }
   }
-  return mask;
 }
 
 }  // namespace ripple::app

@@ -47,10 +47,11 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
                       std::string* error);
 
 // Pixels (CV_8U, 255) whose ideal-pinhole ray meets the water's rest plane
-// inside the tank: where FLIP is averaged. `open_only`: only those whose ray
-// does not pass through a glass wall on its way (the water seen over the
-// walls, without the glass's own refraction and reflections).
-cv::Mat WaterMask(const reference::ReferenceScene& scene, bool open_only);
+// inside the tank (`water`: where FLIP is averaged), and those of them whose
+// ray does not pass through a glass wall on its way (`open_water`: the water
+// seen over the walls, without the glass's own refraction and reflections).
+void WaterMasks(const reference::ReferenceScene& scene, cv::Mat* water,
+                cv::Mat* open_water);
 
 }  // namespace ripple::app
 

@@ -295,8 +295,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
     const cv::Mat realtime = RenderRealTime(renderer.get(), in);
     if (realtime.empty())
       return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
-    const cv::Mat mask = WaterMask(rs, false);
-    const cv::Mat open_mask = WaterMask(rs, true);
+    cv::Mat mask, open_mask;
+    WaterMasks(rs, &mask, &open_mask);
     res.water_pixels = cv::countNonZero(mask);
     cv::Mat flip_map;
     bench::FlipOptions fo;
@@ -353,7 +353,6 @@ int RunBenchRender(const RenderBenchArgs& args) {
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
-    cv::Mat outline;
     cv::Mat edges;
     cv::Canny(mask, edges, 100, 200);
     heat.setTo(cv::Scalar(255, 255, 255), edges);

@@ -1,6 +1,7 @@
 #include "render/caustics.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -248,7 +249,8 @@ struct CausticsWorkspace::Buffers {
   // The light through the walls depends on the tank, the light and the map
   // only (rest level): kept until one of them changes.
   std::vector<float> walls;
-  std::vector<double> walls_key;
+  std::array<double, 11> walls_key{};
+  bool walls_valid = false;
   double walls_flux = 0;
   std::vector<float> hc;
   // Corner arrays with zero padding before and after (see Ctx).
@@ -285,23 +287,24 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
               const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
               std::vector<float>* map, CausticsSummary* summary) {
   if (!o.light_through_walls) return;
-  const std::vector<double> key = {tank.size_x,
-                                   tank.size_y,
-                                   tank.water_level,
-                                   l.x,
-                                   l.y,
-                                   l.z,
-                                   o.ior,
-                                   o.glass_ior,
-                                   o.attenuation_per_m,
-                                   double(o.map_nx),
-                                   double(o.map_ny)};
-  if (ws->walls_key != key) {
+  const std::array<double, 11> key = {tank.size_x,
+                                      tank.size_y,
+                                      tank.water_level,
+                                      l.x,
+                                      l.y,
+                                      l.z,
+                                      o.ior,
+                                      o.glass_ior,
+                                      o.attenuation_per_m,
+                                      double(o.map_nx),
+                                      double(o.map_ny)};
+  if (!ws->walls_valid || ws->walls_key != key) {
     ws->walls.assign(map->size(), 0.0f);
     ws->walls_flux = caustics_internal::AddWallLight(
         tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
         ws->walls.data());
     ws->walls_key = key;
+    ws->walls_valid = true;
   }
   for (size_t i = 0; i < map->size(); ++i) (*map)[i] += ws->walls[i];
   if (summary) summary->flux_walls = ws->walls_flux;

@@ -42,7 +42,8 @@ int RunSynth(const SynthArgs& args) {
   std::string error;
   if (!synth::MakeSequence(*camera, *rig, args.seq, &frames, &error))
     return Fail(kExitBadInput, error);
-  if (!MakeDirectories(args.out + "/frames", &error))
+  if (!MakeDirectories(args.out + "/frames", &error) ||
+      (!args.no_png && !MakeDirectories(args.out + "/occluders", &error)))
     return Fail(kExitBadInput, error);
   // The synthetic renderer writes 8-bit values linear in radiance; the
   // camera file says so, and replay honours it.
@@ -69,6 +70,19 @@ int RunSynth(const SynthArgs& args) {
     if (!args.no_png && !cv::imwrite(args.out + name, r.image,
                                      {cv::IMWRITE_PNG_COMPRESSION, 1}))
       return Fail(kExitRuntime, "cannot write '" + args.out + name + "'");
+    if (!args.no_png) {
+      // Ground truth of what is in front of the board: 255 a hand, 128 the
+      // pen (where no hand hides it), 0 neither; a pixel counts when at
+      // least half of it is covered.
+      cv::Mat hands, pen;
+      renderer.OccluderCoverage(f.scene, &hands, &pen);
+      cv::Mat labels(hands.size(), CV_8U, cv::Scalar(0));
+      labels.setTo(128, pen >= 0.5f);
+      labels.setTo(255, hands >= 0.5f);
+      std::snprintf(name, sizeof(name), "/occluders/%06d.png", f.index);
+      if (!cv::imwrite(args.out + name, labels))
+        return Fail(kExitRuntime, "cannot write '" + args.out + name + "'");
+    }
     if (video.is_open()) video.Write(r.image);
     tracking::PoseRow tank;
     tank.frame = f.index;
@@ -112,9 +126,9 @@ int RunSynth(const SynthArgs& args) {
 
 CommandAction SetupSynth(CLI::App* sub) {
   auto args = std::make_shared<SynthArgs>();
-  sub->add_option(
-         "--out", args->out,
-         "Output folder (frames/, camera.yml, rig.yml, groundtruth.csv)")
+  sub->add_option("--out", args->out,
+                  "Output folder (frames/, occluders/, camera.yml, rig.yml, "
+                  "groundtruth.csv)")
       ->required();
   sub->add_option("--camera", args->camera, "Camera calibration YAML")
       ->capture_default_str();
@@ -127,9 +141,9 @@ CommandAction SetupSynth(CLI::App* sub) {
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
   sub->add_option("--preset", args->seq.preset,
-                  "Motion/imaging preset: benchmark, clean, demo")
+                  "Motion/imaging preset: benchmark, clean, demo, hands")
       ->capture_default_str()
-      ->check(CLI::IsMember({"benchmark", "clean", "demo"}));
+      ->check(CLI::IsMember({"benchmark", "clean", "demo", "hands"}));
   sub->add_option("--seed", args->seq.seed,
                   "Random seed (output is deterministic per seed)")
       ->capture_default_str();

@@ -454,4 +454,35 @@ cv::Mat RenderBoardAlbedo(const tracking::Rig& rig, const FloorPattern& floor,
   return out;
 }
 
+void BoardDesignLevels(const tracking::Rig& rig, const FloorPattern& floor,
+                       const Eigen::Vector2d& corner_m, double texel_m,
+                       cv::Size size, bool srgb, cv::Mat* levels,
+                       cv::Mat* valid) {
+  const Box rect(corner_m,
+                 corner_m + texel_m * Vector2d(size.width, size.height));
+  cv::Mat albedo = RenderBoardAlbedo(rig, floor, rect, 1.0 / texel_m);
+  if (albedo.size() != size) cv::resize(albedo, albedo, size);
+  const Box sheet = BoardSheetRect(rig);
+  levels->create(size, CV_32FC3);
+  valid->create(size, CV_8U);
+  auto encode = [srgb](float v) {
+    v = std::clamp(v, 0.0f, 1.0f);
+    if (!srgb) return 255.0f * v;
+    return 255.0f * (v <= 0.0031308f
+                         ? 12.92f * v
+                         : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f);
+  };
+  for (int r = 0; r < size.height; ++r) {
+    const cv::Vec3f* a = albedo.ptr<cv::Vec3f>(r);
+    cv::Vec3f* out = levels->ptr<cv::Vec3f>(r);
+    std::uint8_t* v = valid->ptr(r);
+    const double y = corner_m.y() + texel_m * (r + 0.5);
+    for (int c = 0; c < size.width; ++c) {
+      const double x = corner_m.x() + texel_m * (c + 0.5);
+      for (int k = 0; k < 3; ++k) out[c][k] = encode(a[c][k] / kPaperBgr[k]);
+      v[c] = sheet.contains(Vector2d(x, y)) ? 255 : 0;
+    }
+  }
+}
+
 }  // namespace ripple::synth

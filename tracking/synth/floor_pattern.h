@@ -172,6 +172,17 @@ cv::Mat RenderBoardAlbedo(const tracking::Rig& rig, const FloorPattern& floor,
                           const Eigen::AlignedBox2d& rect_in_tank_m,
                           double px_per_m);
 
+// The printed board as the clean plate's prior (tracking/clean_plate.h):
+// RenderBoardAlbedo over the plate's grid (`size` texels of `texel_m` from
+// the corner `corner_m`, rows growing with tank y), relative to the paper
+// (paper = 255 levels) and encoded with `srgb` or linearly, as a camera under
+// white light would record it; `valid` is 255 on the sheet and 0 on the
+// table, whose look is not known.
+void BoardDesignLevels(const tracking::Rig& rig, const FloorPattern& floor,
+                       const Eigen::Vector2d& corner_m, double texel_m,
+                       cv::Size size, bool srgb, cv::Mat* levels,
+                       cv::Mat* valid);
+
 // The printed sheet as the synthetic renderer draws it, tank frame: the
 // extent of the board tags' black squares plus a 20 mm paper margin, and at
 // least the tank plus that margin.

@@ -29,7 +29,9 @@ struct Preset {
   double shot_noise_gain = 0;  // DN per electron
   Range jpeg_quality{0, 0};
   Range exposure{1, 1};
-  double hand_fraction = 0;  // share of frames with a hand occluder
+  double hand_fraction = 0;     // share of frames with a hand occluder
+  bool hand_on_pen = false;     // a hand holds the pen's shaft
+  bool hand_over_tank = false;  // a hand sweeps over the tank per segment
   bool scripted_demo = false;
 };
 
@@ -52,7 +54,19 @@ bool GetPreset(const std::string& name, Preset* p) {
     p->defocus_px = {0.5, 0.5};
     p->read_noise_dn = {2, 2};
     p->shot_noise_gain = 0.05;
+    p->hand_on_pen = true;
     p->scripted_demo = true;
+    return true;
+  }
+  if (name == "hands") {
+    p->distance_m = {0.33, 0.5};
+    p->elevation_deg = {45, 70};
+    p->defocus_px = {0.4, 0.8};
+    p->read_noise_dn = {1.5, 3};
+    p->shot_noise_gain = 0.05;
+    p->exposure = {0.85, 1.05};
+    p->hand_on_pen = true;
+    p->hand_over_tank = true;
     return true;
   }
   return false;
@@ -73,6 +87,37 @@ std::vector<Vector2d> HandOutline() {
     o.emplace_back(xs[f] - 0.008, len[f]);
     o.emplace_back(xs[f] - 0.009, 0.0);
   }
+  return o;
+}
+
+// A fist around the pen's shaft with the forearm leaving to the side, in its
+// own plane: the shaft at x = -0.02, the forearm along +x (metres).
+std::vector<Vector2d> FistOutline() {
+  std::vector<Vector2d> o;
+  for (int i = 0; i <= 16; ++i) {
+    const double a = (60.0 + 240.0 * i / 16.0) * kDeg;
+    o.emplace_back(0.026 * std::cos(a), 0.021 * std::sin(a));
+  }
+  o.emplace_back(0.14, -0.03);
+  o.emplace_back(0.14, 0.028);
+  return o;
+}
+
+// A hand holding the pen at `grip_in_tank` (on the shaft), facing the camera
+// at `eye_in_tank`, the forearm leaving towards +x of the tank.
+Occluder HandOnPen(const Pose& cam_from_tank, const Vector3d& eye_in_tank,
+                   const Vector3d& grip_in_tank, const Vector3d& axis_in_tank) {
+  const Vector3d view = (grip_in_tank - eye_in_tank).normalized();
+  Vector3d side = axis_in_tank.cross(view).normalized();
+  if (side.x() < 0) side = -side;
+  const Vector3d up = view.cross(side).normalized();
+  Eigen::Matrix3d r;
+  r << side, up, side.cross(up);
+  // The fist sits just in front of the shaft, its centre 20 mm to the side.
+  const Vector3d centre = grip_in_tank + 0.02 * side - 0.012 * view;
+  Occluder o;
+  o.cam_from_occluder = cam_from_tank * Pose::FromMatrix(r, centre);
+  o.outline_m = FistOutline();
   return o;
 }
 
@@ -114,6 +159,10 @@ std::string DescribePreset(const std::string& name) {
     << " per segment\n"
     << "  hand occluder in " << int(100 * p.hand_fraction)
     << "% of frames (half of a random half of the segments)\n";
+  if (p.hand_on_pen) s << "  a hand holds the pen's shaft below the cube\n";
+  if (p.hand_over_tank)
+    s << "  a hand sweeps across the tank, 40-90 mm above the board, over "
+         "the middle half of each segment\n";
   if (p.scripted_demo)
     s << "  demo script: fixed camera, the pen dips in, stirs slowly, "
          "strokes fast under the obstacle and lifts out\n";
@@ -126,8 +175,8 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
   Preset preset;
   if (!GetPreset(options.preset, &preset)) {
     if (error)
-      *error =
-          "unknown preset '" + options.preset + "' (benchmark, clean, demo)";
+      *error = "unknown preset '" + options.preset +
+               "' (benchmark, clean, demo, hands)";
     return false;
   }
   if (options.frames < 1 || options.segment_frames < 1 || !(options.fps > 0)) {
@@ -136,6 +185,12 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
   }
   frames->clear();
   std::mt19937_64 rng(options.seed);
+  // The hands' own draws, so that adding them leaves the other presets'
+  // sequences as they were.
+  std::mt19937_64 hand_rng(options.seed ^ 0x68616e6473ull);
+  auto hand01 = [&]() {
+    return std::uniform_real_distribution<double>(0, 1)(hand_rng);
+  };
   auto uni = [&](Range r) {
     return std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
   };
@@ -180,6 +235,12 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
               hand_end = hand_start + n / 2;
     const Vector2d hand_target(0.12 * (2 * u01() - 1), 0.08 * (2 * u01() - 1));
     const double hand_frac = 0.45 + 0.3 * u01(), hand_rot = 2 * M_PI * u01();
+    // A hand sweeping over the tank: from one side to the other at 40-90 mm
+    // above the board, over the middle half of the segment.
+    const double sweep_height = 0.04 + 0.05 * hand01();
+    const double sweep_y = 0.6 * hy * (2 * hand01() - 1);
+    const double sweep_rot = (hand01() - 0.5) * 60 * kDeg;
+    const double sweep_dir = hand01() < 0.5 ? -1.0 : 1.0;
 
     for (int i = 0; i < n; ++i) {
       const double t = n > 1 ? double(i) / (n - 1) : 0.0, s = Smooth(t);
@@ -238,6 +299,32 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
           tip = Vector3d(xy.x(), xy.y(), z_top - (z_top - z_bottom) * dip);
         }
         f.scene.tank_from_pen = PenPose(rig, tip, pen_tilt, pen_az, spin);
+        if (preset.hand_on_pen) {
+          const Pose& tank_from_pen = *f.scene.tank_from_pen;
+          const Vector3d top(0, 0, -0.5 * rig.pen->cube_edge_m);
+          const Vector3d axis =
+              tank_from_pen.R() * (top - rig.pen->tip_in_pen).normalized();
+          const Vector3d grip = tank_from_pen * top - 0.035 * axis;
+          f.scene.occluders.push_back(
+              HandOnPen(f.scene.cam_from_tank, eye, grip, axis));
+        }
+      }
+      if (preset.hand_over_tank && t > 0.25 && t < 0.75) {
+        const double u = (t - 0.25) / 0.5;
+        const Vector3d centre(sweep_dir * (1.6 * hx) * (u - 0.5), sweep_y,
+                              sweep_height);
+        // Palm down-ish, facing the camera enough to be seen.
+        const Vector3d view = (centre - eye).normalized();
+        Pose tank_from_hand =
+            tracking::LookAt(centre, centre + view, Vector3d::UnitZ());
+        tank_from_hand.rotation =
+            tank_from_hand.rotation *
+            Eigen::Quaterniond(Eigen::AngleAxisd(sweep_rot, Vector3d::UnitZ()));
+        Occluder o;
+        o.cam_from_occluder = f.scene.cam_from_tank * tank_from_hand;
+        o.outline_m = HandOutline();
+        o.bgr = cv::Vec3f(0.38f, 0.47f, 0.68f);
+        f.scene.occluders.push_back(o);
       }
       // Hand occluder, between the camera and a point near the board edge.
       if (hand && f.index >= hand_start && f.index < hand_end) {

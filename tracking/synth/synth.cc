@@ -613,6 +613,51 @@ void SceneRenderer::VisibleTags(const SceneState& scene,
   }
 }
 
+void SceneRenderer::OccluderCoverage(const SceneState& scene, cv::Mat* hands,
+                                     cv::Mat* pen) const {
+  const int W = camera_.width, H = camera_.height;
+  auto paint = [&](const std::vector<Vector2d>& poly, cv::Mat* target) {
+    cv::Mat cov;
+    cv::Rect roi;
+    if (!RasterizePolygon(poly, W, H, &cov, &roi)) return;
+    for (int y = 0; y < roi.height; ++y) {
+      float* row = target->ptr<float>(roi.y + y) + roi.x;
+      const float* c = cov.ptr<float>(y);
+      for (int x = 0; x < roi.width; ++x)
+        row[x] = row[x] + c[x] * (1.0f - row[x]);
+    }
+  };
+  hands->create(H, W, CV_32F);
+  hands->setTo(0);
+  pen->create(H, W, CV_32F);
+  pen->setTo(0);
+  for (const Occluder& o : scene.occluders) {
+    std::vector<Vector3d> pts;
+    for (const Vector2d& p : o.outline_m)
+      pts.push_back(o.cam_from_occluder * Vector3d(p.x(), p.y(), 0));
+    std::vector<Vector2d> poly;
+    if (ProjectOutline(camera_, pts, true, &poly)) paint(poly, hands);
+  }
+  if (scene.tank_from_pen && rig_.pen) {
+    const tracking::PenSpec& spec = *rig_.pen;
+    const Pose cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
+    std::vector<Vector2d> hull;
+    if (ShaftOutline(camera_, spec, cam_from_pen, &hull)) paint(hull, pen);
+    std::vector<Vector2d> pts;
+    const double h = 0.5 * spec.cube_edge_m;
+    bool ok = true;
+    for (int i = 0; i < 8 && ok; ++i) {
+      const Vector3d p = cam_from_pen * Vector3d(i & 1 ? h : -h, i & 2 ? h : -h,
+                                                 i & 4 ? h : -h);
+      ok = p.z() > 1e-4;
+      if (ok) pts.push_back(camera_.Project(p));
+    }
+    if (ok) paint(ConvexHull(pts), pen);
+  }
+  // Hands are drawn in front of the pen.
+  *pen = pen->mul(1.0f - *hands);
+}
+
 namespace {
 
 cv::Mat MotionBlurKernel(double length_px, double angle_rad) {

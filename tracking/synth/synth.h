@@ -80,6 +80,12 @@ class SceneRenderer {
   // the image, facing the camera and unoccluded.
   void VisibleTags(const SceneState& scene, std::vector<int>* tank_tags,
                    std::vector<int>* pen_tags) const;
+  // Ground truth of what stands in front of the board, per pixel of the
+  // image as Render() draws it (lens distortion included): the share covered
+  // by the occluders (`hands`) and by the pen where no occluder hides it
+  // (`pen`), CV_32F in [0, 1], the camera's size.
+  void OccluderCoverage(const SceneState& scene, cv::Mat* hands,
+                        cv::Mat* pen) const;
 
  private:
   struct Impl;

@@ -1,0 +1,254 @@
+// The clean plate against synthetic truth: hands over the tank are found
+// (mask IoU against the renderer's own coverage), shadows, exposure drift
+// and the pen are not foreground, and a board revealed by a hand that was
+// there from the start takes over the plate.
+#include "tracking/clean_plate.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <opencv2/imgproc.hpp>
+
+#include "tests/shipped_data.h"
+#include "tests/tracking/synth_sequence.h"
+#include "tracking/synth/floor_pattern.h"
+#include "tracking/synth/synth.h"
+
+namespace ripple::tracking {
+namespace {
+
+constexpr int kPadPx = 4;
+
+cv::Rect Window(const Camera& camera, const Rig& rig,
+                const Pose& cam_from_tank) {
+  return TankWindow(camera, cam_from_tank, rig.tank.size_x_m, rig.tank.size_y_m,
+                    rig.tank.wall_height_m, kPadPx);
+}
+
+cv::Mat PenMask(const Camera& camera, const Rig& rig,
+                const synth::SceneState& scene) {
+  cv::Mat mask;
+  if (!scene.tank_from_pen || !rig.pen) return mask;
+  DrawPenSilhouette(camera, scene.cam_from_tank * *scene.tank_from_pen,
+                    rig.pen->cube_edge_m, rig.pen->shaft_radius_m,
+                    rig.pen->tip_in_pen, 1.5, &mask);
+  return mask;
+}
+
+// A plate with the printed board's design as its prior (linear frames, as
+// the synthetic renderer writes by default).
+void SetPrior(const Rig& rig, CleanPlate* plate) {
+  cv::Mat levels, valid;
+  const cv::Point2d o = plate->plate_origin_m();
+  synth::BoardDesignLevels(rig, synth::FloorPattern(), {o.x, o.y},
+                           plate->texel_m(), plate->plate_size(),
+                           /*srgb=*/false, &levels, &valid);
+  ASSERT_TRUE(plate->SetBoardPrior(levels, valid));
+}
+
+struct MaskScore {
+  long long inter = 0, uni = 0, truth = 0, missed = 0, false_px = 0;
+  double IoU() const { return uni > 0 ? double(inter) / uni : 1.0; }
+};
+
+// Scores `found` against the hands' coverage inside `window`, leaving out the
+// pen's pixels (`exclude`: known geometry, which the renderer handles).
+void Score(const cv::Mat& found, const cv::Mat& hands, const cv::Mat& exclude,
+           const cv::Rect& window, MaskScore* s) {
+  for (int y = window.y; y < window.y + window.height; ++y) {
+    for (int x = window.x; x < window.x + window.width; ++x) {
+      if (!exclude.empty() && exclude.at<std::uint8_t>(y, x)) continue;
+      const bool t = hands.at<float>(y, x) >= 0.5f;
+      const bool f = found.at<std::uint8_t>(y, x) != 0;
+      s->inter += t && f;
+      s->uni += t || f;
+      s->truth += t;
+      s->missed += t && !f;
+      s->false_px += f && !t;
+    }
+  }
+}
+
+TEST(CleanPlateTest, OptionsAreValidated) {
+  CleanPlateOptions o;
+  std::string error;
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+  o.low_threshold = 40;
+  o.high_threshold = 20;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("threshold"), std::string::npos);
+  o = CleanPlateOptions();
+  o.texel_m = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+}
+
+TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  ASSERT_TRUE(rig.pen);
+  const synth::SceneRenderer renderer(camera, rig);
+  const auto specs = test_data::SynthSpecs(camera, rig, "hands", 80, 40, 7);
+  ASSERT_EQ(specs.size(), 80u);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  SetPrior(rig, &plate);
+  MaskScore score;
+  int scored_frames = 0;
+  for (const synth::FrameSpec& f : specs) {
+    const synth::RenderedFrame r =
+        renderer.Render(f.scene, f.imaging, f.noise_seed);
+    const cv::Mat exclude = PenMask(camera, rig, f.scene);
+    const cv::Rect window = Window(camera, rig, f.scene.cam_from_tank);
+    plate.Process(r.image, f.scene.cam_from_tank, exclude, window);
+    // A cut (a new segment) moves the camera, not the board: the plate
+    // carries over. Scoring starts after the first few frames of learning.
+    if (f.index < 2) continue;
+    cv::Mat hands, pen;
+    renderer.OccluderCoverage(f.scene, &hands, &pen);
+    Score(plate.foreground(), hands, exclude, window, &score);
+    ++scored_frames;
+  }
+  ASSERT_GT(score.truth, 20000) << "the sequence must put hands over the tank";
+  EXPECT_GE(score.IoU(), 0.9) << "missed " << score.missed << " of "
+                              << score.truth << ", false " << score.false_px;
+  EXPECT_LE(double(score.missed) / score.truth, 0.05);
+  EXPECT_GT(scored_frames, 60);
+  std::printf("hands over the tank: IoU %.3f, missed %.1f%%, false %.1f%%\n",
+              score.IoU(), 100.0 * score.missed / score.truth,
+              100.0 * score.false_px / score.truth);
+}
+
+// A frame of the board alone (no pen, no hands), linear-light imaging.
+cv::Mat BoardFrame(const synth::SceneRenderer& renderer,
+                   const Pose& cam_from_tank, double exposure,
+                   std::uint64_t seed) {
+  synth::SceneState scene;
+  scene.cam_from_tank = cam_from_tank;
+  synth::ImagingOptions imaging;
+  imaging.exposure = exposure;
+  imaging.read_noise_dn = 2;
+  imaging.defocus_sigma_px = 0.5;
+  return renderer.Render(scene, imaging, seed).image;
+}
+
+Pose BoardView() {
+  return LookAt({0.0, -0.25, 0.3}, {0.0, 0.0, 0.0}, Eigen::Vector3d::UnitZ())
+      .Inverse();
+}
+
+TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  const synth::SceneRenderer renderer(camera, rig);
+  const Pose cam_from_tank = BoardView();
+  const cv::Rect window = Window(camera, rig, cam_from_tank);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  for (int i = 0; i < 10; ++i)
+    plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, i + 1),
+                  cam_from_tank, cv::Mat(), window);
+  EXPECT_GT(plate.summary().known_texels, 10000);
+  // 20% darker everywhere, and a soft-edged shadow at 55% of the light.
+  cv::Mat frame = BoardFrame(renderer, cam_from_tank, 0.8, 99);
+  cv::Mat shade(frame.size(), CV_32F, cv::Scalar(1.0));
+  cv::ellipse(shade,
+              {window.x + window.width / 2, window.y + window.height / 2},
+              {60, 25}, 20, 0, 360, cv::Scalar(0.55), -1);
+  cv::GaussianBlur(shade, shade, {0, 0}, 3);
+  cv::Mat f32;
+  frame.convertTo(f32, CV_32FC3);
+  cv::Mat shade3;
+  cv::merge(std::vector<cv::Mat>{shade, shade, shade}, shade3);
+  f32 = f32.mul(shade3);
+  f32.convertTo(frame, CV_8UC3);
+  const CleanPlateSummary& s =
+      plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  EXPECT_NEAR(s.gain, 0.8, 0.05);
+  EXPECT_LT(s.foreground_px, 50) << "shadow or drift taken for an occluder";
+  // A hand-coloured patch in the same place is foreground.
+  cv::Mat with_patch = BoardFrame(renderer, cam_from_tank, 1.0, 100);
+  const cv::Rect patch(window.x + window.width / 3,
+                       window.y + window.height / 3, 40, 30);
+  with_patch(patch).setTo(cv::Scalar(110, 140, 190));
+  plate.Process(with_patch, cam_from_tank, cv::Mat(), window);
+  const int found = cv::countNonZero(plate.foreground()(patch));
+  EXPECT_GE(found, patch.area() * 95 / 100);
+  EXPECT_LE(plate.summary().foreground_px, patch.area() * 11 / 10);
+}
+
+TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  const synth::SceneRenderer renderer(camera, rig);
+  const Pose cam_from_tank = BoardView();
+  const cv::Rect window = Window(camera, rig, cam_from_tank);
+  const cv::Rect patch(window.x + window.width / 3,
+                       window.y + window.height / 3, 40, 30);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  // A hand lies there for the first 5 frames: it is learned as board.
+  for (int i = 0; i < 5; ++i) {
+    cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
+    frame(patch).setTo(cv::Scalar(110, 140, 190));
+    plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  }
+  // Then it leaves: its ghost shows until the board has been seen for the
+  // takeover time.
+  const int takeover = CleanPlateOptions().takeover_frames;
+  int frames_with_ghost = 0;
+  for (int i = 0; i < takeover + 2; ++i) {
+    plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, i + 10),
+                  cam_from_tank, cv::Mat(), window);
+    if (cv::countNonZero(plate.foreground()(patch)) > 0) ++frames_with_ghost;
+  }
+  EXPECT_GE(frames_with_ghost, takeover - 2);
+  EXPECT_LE(frames_with_ghost, takeover);
+  EXPECT_EQ(plate.summary().foreground_px, 0);
+}
+
+TEST(CleanPlateTest, ExcludedPixelsAreNeitherReportedNorLearned) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  const synth::SceneRenderer renderer(camera, rig);
+  const Pose cam_from_tank = BoardView();
+  const cv::Rect window = Window(camera, rig, cam_from_tank);
+  const cv::Rect patch(window.x + window.width / 2,
+                       window.y + window.height / 2, 30, 30);
+  cv::Mat exclude(camera.height, camera.width, CV_8U, cv::Scalar(0));
+  exclude(patch).setTo(255);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  for (int i = 0; i < 8; ++i) {
+    cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
+    frame(patch).setTo(cv::Scalar(20, 20, 20));  // the pen, always there
+    plate.Process(frame, cam_from_tank, exclude, window);
+    EXPECT_EQ(plate.summary().foreground_px, 0);
+  }
+  // Once the pen leaves, the texels it hid have never been learned: they
+  // are unknown (not foreground), and the pen was never learned as board.
+  cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, 50);
+  plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  EXPECT_EQ(plate.summary().foreground_px, 0);
+  frame(patch).setTo(cv::Scalar(20, 20, 20));
+  plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  EXPECT_GT(cv::countNonZero(plate.foreground()(patch)), patch.area() / 2);
+}
+
+TEST(CleanPlateTest, PenSilhouetteCoversTheRenderedPen) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  ASSERT_TRUE(rig.pen);
+  const synth::SceneRenderer renderer(camera, rig);
+  const auto specs = test_data::SynthSpecs(camera, rig, "clean", 10, 10, 3);
+  for (const synth::FrameSpec& f : specs) {
+    cv::Mat hands, pen;
+    renderer.OccluderCoverage(f.scene, &hands, &pen);
+    const cv::Mat mask = PenMask(camera, rig, f.scene);
+    ASSERT_FALSE(mask.empty());
+    const int truth = cv::countNonZero(pen >= 0.05f);
+    ASSERT_GT(truth, 200);
+    cv::Mat outside = (pen >= 0.05f) & (mask == 0);
+    EXPECT_EQ(cv::countNonZero(outside), 0) << "frame " << f.index;
+    // Grown by 1.5 px, not by more than the shaft's outline warrants.
+    EXPECT_LT(cv::countNonZero(mask), 1.6 * truth) << "frame " << f.index;
+  }
+}
+
+}  // namespace
+}  // namespace ripple::tracking

@@ -1,0 +1,190 @@
+// The board as it looks with nothing in front of it (a "clean plate"),
+// learned online in tank coordinates, and per frame the mask of pixels where
+// something real (a hand, a sleeve, a cup) stands between the camera and the
+// board: the pixels the AR composite must leave to the video.
+//
+// Model, per plate texel (the board plane z = 0, tank frame): a background
+// colour with the frames of evidence behind it and one challenger colour
+// (two-candidate background, after Stauffer & Grimson's mixture kept to two
+// modes). An observation that matches the background refines it; one that
+// does not feeds the challenger, which replaces the background once it has
+// been seen for longer and for at least `takeover_frames`. So a board
+// revealed by a hand that was there when tracking began takes over after
+// `takeover_frames` (or as many frames as the hand stayed, if more), a hand
+// passing over the board never becomes board, and one resting there for
+// longer than `evidence_cap_frames` does. Colours are stored relative to a
+// global gain (the camera's exposure and white balance drift; the gain of each
+// frame is the median ratio of frame to plate over the board).
+//
+// Per frame, in the ideal-pinhole image (the camera's intrinsics without
+// lens distortion: the renderer's output), inside a window around the tank:
+//   1. the plate is warped into the window by the board's homography;
+//   2. a pixel differs when it lies outside the plate's 3x3 neighbourhood
+//      range (times the gain) by more than a threshold: the range absorbs a
+//      pixel of registration error at the printed edges; a darkening by a
+//      common factor that keeps the plate's chromaticity is a shadow, not an
+//      occluder (Horprasert et al. 1999's brightness/chromaticity split);
+//   3. hysteresis: differing regions (low threshold) are kept when they hold
+//      a strong pixel (high threshold) or were foreground in the last frame;
+//      small blobs are dropped and the mask is closed by one pixel;
+//   4. the plate learns from the frame, except where `exclude` says a known
+//      object is (the pen).
+// The printed board is known (`SetBoardPrior`: the sheet's design as the
+// frame would show it under white light): where the plate has not learned a
+// texel yet, a pixel is compared with the design instead (times a
+// per-channel gain, within an illumination tolerance), a texel learns only
+// colours the design allows, and a challenger the design does not allow never
+// becomes background. So a hand present when tracking starts is foreground
+// from the first frame, and no hand is ever learned as board.
+// Shortcomings, by design: an occluder of the board's own colour (or a grey
+// one over white paper, which reads as shadow) is not seen; without a prior,
+// texels never observed free of a known object stay unknown (not
+// foreground).
+#ifndef RIPPLE_TRACKING_CLEAN_PLATE_H_
+#define RIPPLE_TRACKING_CLEAN_PLATE_H_
+
+#include <cstdint>
+#include <opencv2/core.hpp>
+#include <string>
+
+#include "tracking/camera.h"
+#include "tracking/pose.h"
+
+namespace ripple::tracking {
+
+struct CleanPlateOptions {
+  double texel_m = 0.001;  // plate texel edge, metres
+  // Board around the tank's inner outline that the plate covers (what the
+  // tank's walls and water show of the board behind them), metres.
+  double margin_m = 0.08;
+  // Colour difference beyond the plate's neighbourhood range, 8-bit levels
+  // of the frame's encoding (largest over the channels): seeds of a region,
+  // and the level its pixels must reach.
+  double high_threshold = 30;
+  double low_threshold = 14;
+  // A pixel at this fraction of the plate's brightness or more, with the
+  // plate's chromaticity (within `shadow_chroma_tolerance` of its
+  // brightness), is shadowed board.
+  double shadow_min_ratio = 0.4;
+  double shadow_chroma_tolerance = 0.08;
+  // Frames of evidence a background colour can hold; a challenger seen for
+  // longer replaces it.
+  int evidence_cap_frames = 150;
+  // Frames a challenger must be seen before it can replace the background.
+  int takeover_frames = 45;
+  // Where the printed design stands in for the plate: the light may vary
+  // over the board by these factors around the frame's gain.
+  double illumination_low = 0.7;
+  double illumination_high = 1.35;
+  // Weight of a matching observation in the background colour.
+  double learn_rate = 0.08;
+  // Foreground regions smaller than this are dropped as noise, pixels.
+  int min_region_px = 16;
+
+  bool IsValid(std::string* error) const;
+};
+
+// What the last Process() found.
+struct CleanPlateSummary {
+  int foreground_px = 0;   // mask pixels set
+  int known_texels = 0;    // plate texels with a background colour
+  int learned_texels = 0;  // texels this frame updated
+  double gain = 1.0;       // frame / plate brightness
+  bool plate_changed = false;
+};
+
+class CleanPlate {
+ public:
+  // `camera`: the tracker's camera (its distortion is undone for the mask);
+  // the tank's inner size, metres.
+  CleanPlate(const Camera& camera, double tank_size_x_m, double tank_size_y_m,
+             const CleanPlateOptions& options = CleanPlateOptions());
+
+  // One frame: `bgr` (CV_8UC3, the camera's size, as captured), the board's
+  // pose, `exclude` (CV_8U of the camera's size in ideal-pinhole pixels, or
+  // empty): known objects' pixels, neither learned nor reported; `window`
+  // (ideal-pinhole pixels): where the mask is wanted (clipped to the image).
+  // Returns the summary; the mask is foreground().
+  const CleanPlateSummary& Process(const cv::Mat& bgr,
+                                   const Pose& cam_from_tank,
+                                   const cv::Mat& exclude, cv::Rect window);
+
+  // CV_8U, the camera's size, ideal-pinhole pixels: 255 where something real
+  // is in front of the board; 0 elsewhere and outside foreground_window().
+  const cv::Mat& foreground() const { return foreground_; }
+  cv::Rect foreground_window() const { return window_; }
+
+  // The plate as 8-bit BGRA (alpha 255 where known, else 0), in the
+  // frame's encoding: the centre of texel (column i, row j) is the tank
+  // point (x, y) = plate_origin_m() + texel_m() * (i + 0.5, j + 0.5), so
+  // row 0 is the smallest y. Colours are relative to the gain (times
+  // summary().gain: this frame's exposure).
+  const cv::Mat& plate() const { return plate_bgra_; }
+  cv::Point2d plate_origin_m() const { return origin_m_; }
+  double texel_m() const { return options_.texel_m; }
+  // Bumped whenever plate() changed.
+  std::uint64_t plate_counter() const { return plate_counter_; }
+  const CleanPlateSummary& summary() const { return summary_; }
+
+  // The printed board's design on the plate's grid (plate_size(), texel
+  // centres as in plate()): CV_32FC3 in 8-bit levels of the frame's encoding
+  // as the board would show under white light with paper at 255; `valid`
+  // CV_8U, nonzero where the design is known (the sheet, not the table).
+  // False (nothing changed) on a size or type mismatch.
+  bool SetBoardPrior(const cv::Mat& design_levels, const cv::Mat& valid);
+  cv::Size plate_size() const { return {plate_w_, plate_h_}; }
+
+  // Forgets the plate (a new board or a cut); the prior stays.
+  void Reset();
+
+ private:
+  void Undistort(const cv::Mat& bgr, const cv::Rect& window, cv::Mat* out);
+  void Classify(const cv::Mat& frame, const cv::Mat& plate_in_window,
+                const cv::Mat& prior_in_window,
+                const cv::Mat& exclude_in_window);
+  void EstimateGains(const cv::Mat& frame, const cv::Mat& plate_in_window,
+                     const cv::Mat& prior_in_window,
+                     const cv::Mat& exclude_in_window);
+  // Whether `o` (levels) may be the printed design `p` (levels) under this
+  // frame's light.
+  bool PriorAllows(const cv::Vec3f& o, const cv::Vec3f& p) const;
+  void Learn(const cv::Mat& frame, const cv::Mat& exclude_in_window,
+             const cv::Matx33d& window_from_plate);
+
+  Camera camera_;
+  CleanPlateOptions options_;
+  cv::Point2d origin_m_;
+  int plate_w_ = 0, plate_h_ = 0;
+  // Per texel: background and challenger colours (gain-relative, 8-bit
+  // levels), their evidence in frames.
+  cv::Mat background_, challenger_;      // CV_32FC3
+  cv::Mat background_n_, challenger_n_;  // CV_16U
+  cv::Mat plate_bgra_;
+  cv::Mat prior_;  // CV_32FC4: design levels, alpha 255 where valid
+  std::uint64_t plate_counter_ = 0;
+  // Ideal-pinhole pixel -> captured pixel, for cameras with distortion.
+  cv::Mat undistort_x_, undistort_y_;
+  cv::Mat foreground_, last_foreground_;
+  cv::Rect window_;
+  double gain_ = 1.0;
+  cv::Vec3f prior_gain_{1.0f, 1.0f, 1.0f};  // frame / design, per channel
+  CleanPlateSummary summary_;
+};
+
+// The ideal-pinhole pixel window of the tank's box (inner size, floor to
+// `top_m`) grown by `pad_px`, clipped to the image; the whole image when a
+// corner is behind the camera.
+cv::Rect TankWindow(const Camera& camera, const Pose& cam_from_tank,
+                    double size_x_m, double size_y_m, double top_m, int pad_px);
+
+// Pixels (CV_8U 255, the camera's size, ideal-pinhole) covered by a pen of
+// the rig's geometry at `cam_from_pen`: the shaft cylinder and the cube,
+// grown by `grow_px`. `mask` is (re)allocated and cleared.
+void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
+                       double cube_edge_m, double shaft_radius_m,
+                       const Eigen::Vector3d& tip_in_pen, double grow_px,
+                       cv::Mat* mask);
+
+}  // namespace ripple::tracking
+
+#endif  // RIPPLE_TRACKING_CLEAN_PLATE_H_

@@ -226,4 +226,63 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad2"));
 }
 
+// `ripple sun`: NREL SPA's worked example (azimuth 194.340, true elevation
+// 39.872 deg; render/sun_test has the reference) and a polar night; every
+// bad input is one `ripple:` line and exit code 2.
+TEST(CliTest, SunPrintsThePositionAndTheSky) {
+  auto r = RunRipple("sun 39.742476 -105.1786 2003-10-17T12:30:30-07:00");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::ContainsRegex(
+                            "azimuth: +194\\.34[0-9] deg \\(clockwise from "
+                            "true north\\)"));
+  EXPECT_THAT(r.output,
+              ::testing::ContainsRegex("elevation, true: +39\\.87[0-9] deg"));
+  EXPECT_THAT(r.output,
+              ::testing::ContainsRegex("elevation, apparent: +39\\.89[0-9] deg "
+                                       "\\(refraction included"));
+  EXPECT_THAT(r.output, ::testing::ContainsRegex("below horizon: +no"));
+  EXPECT_THAT(r.output, HasSubstr("zenith colour:"));
+  EXPECT_THAT(r.output, HasSubstr("ambient colour:"));
+  EXPECT_THAT(r.output, HasSubstr("turbidity 3.00"));
+  r = RunRipple(
+      "sun 78.2232 15.6267 2024-12-21T12:00:00+01:00 --turbidity 2.5");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, ::testing::ContainsRegex("elevation, true: +-11\\.6"));
+  EXPECT_THAT(r.output, ::testing::ContainsRegex("below horizon: +yes"));
+  EXPECT_THAT(r.output, ::testing::ContainsRegex("sky: +none"));
+  r = RunRipple("sun --help");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_THAT(r.output, HasSubstr("LAT LON DATETIME"));
+  EXPECT_THAT(RunRipple("--help").output, HasSubstr("sun"));
+
+  const struct {
+    const char* args;
+    const char* message;
+  } kBad[] = {
+      {"91 0 2026-06-21T12:00Z", "LAT '91' must be a number"},
+      {"-90.5 0 2026-06-21T12:00Z", "LAT '-90.5'"},
+      {"north 0 2026-06-21T12:00Z", "LAT 'north'"},
+      {"0 180.5 2026-06-21T12:00Z", "LON '180.5' must be a number"},
+      {"0 -181 2026-06-21T12:00Z", "LON '-181'"},
+      {"0 12e 2026-06-21T12:00Z", "LON '12e'"},
+      {"0 0 2026-06-21T12:00", "no time zone"},
+      {"0 0 2026-13-21T12:00Z", "month 13"},
+      {"0 0 2026-04-31T12:00Z", "day 31 does not exist in 2026-04"},
+      {"0 0 2026-06-21T12:00+14:30", "beyond +-14:00"},
+      {"0 0 21.06.2026", "bad date-time '21.06.2026'"},
+      {"0 0 2026-06-21T12:00Z --turbidity 12", "--turbidity '12'"},
+      {"0 0 2026-06-21T12:00Z --turbidity 1.2", "[1.7, 10]"},
+      {"0 0 2026-06-21T12:00Z --turbidity haze", "--turbidity 'haze'"},
+  };
+  for (const auto& bad : kBad) {
+    r = RunRipple(std::string("sun ") + bad.args);
+    EXPECT_EQ(r.exit_code, 2) << bad.args << "\n" << r.output;
+    EXPECT_THAT(r.output, HasSubstr(bad.message)) << bad.args;
+    EXPECT_EQ(r.output.rfind("ripple: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+        << r.output;
+  }
+  EXPECT_EQ(RunRipple("sun 0 0").exit_code, 2);  // DATETIME is required
+}
+
 }  // namespace ripple

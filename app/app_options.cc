@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "app/app_floor.h"
+
 namespace ripple::app {
 
 void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
@@ -23,6 +25,19 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_option("--light-size", args->light_size_deg,
                   "Angular radius of the light, degrees (default 2): the "
                   "size of the glints on the ripples");
+  AddFloorOption(sub, &args->floor);
+  sub->add_flag("--no-occluders", args->no_occluders,
+                "Draw the water over everything: no clean plate of the "
+                "board, no hands or objects kept in front of the tank");
+}
+
+bool SetBoardFloor(PipelineArgs* args, const tracking::Rig& rig) {
+  if (args->options.occluders) {
+    auto floor = MakeFloorOrReport(args->floor, rig);
+    if (!floor) return false;
+    args->options.board_floor = std::move(*floor);
+  }
+  return true;
 }
 
 bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
@@ -43,6 +58,7 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.effects.shadows = !args->no_shadows;
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
+  o.occluders = !args->no_occluders;
   o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
   render::WaterLook look;
   if (!render::ParseWaterLook(args->water_look, &look)) {

@@ -10,6 +10,7 @@
 
 #include "app/app_pipeline.h"
 #include "app/app_water.h"
+#include "tracking/rig.h"
 
 namespace ripple::app {
 
@@ -23,6 +24,8 @@ struct PipelineArgs {
   std::string water_look = "clear";
   double ambient = std::nan("");         // sky's share of the light, [0, 1]
   double light_size_deg = std::nan("");  // angular radius of the light
+  std::string floor;  // --floor: the printed tank floor (app_floor.h)
+  bool no_occluders = false;
 };
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.
@@ -31,6 +34,11 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args);
 // Resolves the backend and toggles into args->options; false with `error`.
 bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
                            std::string* error);
+
+// The printed board's floor (--floor) for the clean plate's prior, into
+// args->options.board_floor; false after printing the one line (the caller
+// exits with kExitBadInput).
+bool SetBoardFloor(PipelineArgs* args, const tracking::Rig& rig);
 
 // Checks a frame size against the calibration. Same size: ok. Same aspect
 // ratio: the intrinsics are scaled, with a warning on stderr. Otherwise

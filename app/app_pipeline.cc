@@ -1,5 +1,7 @@
 #include "app/app_pipeline.h"
 
+#include <future>
+
 #include "app/app_obstacles.h"
 #include "app/app_water.h"
 #include "bench/stats.h"
@@ -29,6 +31,7 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
                                            const PipelineOptions& options,
                                            std::string* error) {
   if (!options.IsValid(error)) return nullptr;
+  if (options.occluders && !options.clean_plate.IsValid(error)) return nullptr;
   std::unique_ptr<Pipeline> p(new Pipeline());
   p->camera_ = camera;
   p->rig_ = rig;
@@ -78,6 +81,19 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
     s.pen.shaft_radius = static_cast<float>(rig.pen->shaft_radius_m);
     s.pen.shaft_length = static_cast<float>(rig.pen->shaft_length_m);
   }
+  if (options.occluders) {
+    p->plate_ = std::make_unique<tracking::CleanPlate>(
+        camera, rig.tank.size_x_m, rig.tank.size_y_m, options.clean_plate);
+    if (options.board_floor) {
+      cv::Mat levels, valid;
+      const cv::Point2d o = p->plate_->plate_origin_m();
+      synth::BoardDesignLevels(rig, *options.board_floor, {o.x, o.y},
+                               p->plate_->texel_m(), p->plate_->plate_size(),
+                               camera.transfer == geometry::Transfer::kSrgb,
+                               &levels, &valid);
+      p->plate_->SetBoardPrior(levels, valid);
+    }
+  }
   p->composite_.create(camera.height, camera.width, CV_8UC3);
   return p;
 }
@@ -112,6 +128,48 @@ bool Pipeline::RemoveLastObstacle() {
 
 int Pipeline::num_obstacles() const { return water_->num_obstacles(); }
 
+void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
+                                 const tracking::FrameResult& tr) {
+  scene_.occluders = {};
+  scene_.plate = {};
+  if (!plate_ || !tr.tank.has_pose()) return;
+  const tracking::Pose& cam_from_tank = *tr.tank.cam_from_object;
+  cv::Mat exclude;
+  if (tr.pen.has_pose() && rig_.pen) {
+    // Grown by the phantom's margin at the pen's distance, and a pixel.
+    const double depth =
+        std::max(0.05, tr.pen.cam_from_object->translation.z());
+    const double grow_px = 1.0 + scene_.pen_margin_m * camera_.fx / depth;
+    tracking::DrawPenSilhouette(camera_, *tr.pen.cam_from_object,
+                                rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
+                                rig_.pen->tip_in_pen, grow_px, &pen_mask_);
+    exclude = pen_mask_;
+  }
+  const tracking::TankSpec& t = rig_.tank;
+  const cv::Rect window = tracking::TankWindow(
+      camera_, cam_from_tank, t.size_x_m, t.size_y_m,
+      std::max(t.wall_height_m, t.water_level_m + 0.01), 4);
+  const tracking::CleanPlateSummary& summary =
+      plate_->Process(bgr, cam_from_tank, exclude, window);
+  const cv::Mat& mask = plate_->foreground();
+  const cv::Rect w = plate_->foreground_window();
+  scene_.occluders.mask = mask.data;
+  scene_.occluders.width = mask.cols;
+  scene_.occluders.height = mask.rows;
+  scene_.occluders.stride_bytes = static_cast<int>(mask.step);
+  scene_.occluders.window = glm::ivec4(w.x, w.y, w.width, w.height);
+  const cv::Mat& plate = plate_->plate();
+  scene_.plate.bgra = plate.data;
+  scene_.plate.width = plate.cols;
+  scene_.plate.height = plate.rows;
+  scene_.plate.stride_bytes = static_cast<int>(plate.step);
+  scene_.plate.corner_m = {plate_->plate_origin_m().x,
+                           plate_->plate_origin_m().y};
+  scene_.plate.texel_m = plate_->texel_m();
+  scene_.plate.gain = static_cast<float>(summary.gain);
+  scene_.plate.change_counter = plate_->plate_counter();
+}
+
 void Pipeline::UpdateSceneObstacles() {
   scene_.obstacles.clear();
   for (const auto& o : drawn_obstacles_)
@@ -129,6 +187,15 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   const tracking::FrameResult& tr = report.tracking;
   report.times.det = tr.timings.detect_ms;
   report.times.pose = tr.timings.pose_ms;
+
+  // Real objects in front of the tank, on the second core while the water
+  // advances (they share nothing: the plate reads the frame and the poses,
+  // the water the tip).
+  auto occ = std::async(std::launch::async, [&] {
+    const bench::Stopwatch occ_watch;
+    UpdateRealObjects(bgr, tr);
+    return occ_watch.ElapsedMs();
+  });
 
   // Interaction and water.
   const bench::Stopwatch sim_watch;
@@ -150,6 +217,7 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   const sim::HeightFieldView coarse =
       options_.effects.caustics ? water_->CoarseView() : sim::HeightFieldView();
   report.times.sim = sim_watch.ElapsedMs();
+  report.times.occ = occ.get();
 
   // Render.
   const bench::Stopwatch render_watch;

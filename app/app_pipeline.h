@@ -15,7 +15,9 @@
 #include "render/renderer.h"
 #include "sim/water_surface.h"
 #include "tracking/camera.h"
+#include "tracking/clean_plate.h"
 #include "tracking/rig.h"
+#include "tracking/synth/floor_pattern.h"
 #include "tracking/tracker.h"
 
 namespace ripple::app {
@@ -30,6 +32,14 @@ struct PipelineOptions {
   render::Effects effects;
   render::Backend backend = render::Backend::kEgl;
   bool window = false;  // GLFW: show a window (live)
+  // Real objects in front of the tank (a hand): a clean plate of the board
+  // is learned and its occluder mask composited in front of the water
+  // (tracking/clean_plate.h).
+  bool occluders = true;
+  tracking::CleanPlateOptions clean_plate;
+  // The printed board's floor, the clean plate's prior (the board's design);
+  // nullopt: no prior.
+  std::optional<synth::FloorPattern> board_floor;
 
   bool IsValid(std::string* error) const;
 };
@@ -84,6 +94,12 @@ class Pipeline {
   std::unique_ptr<sim::WaterSurface> water_;
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
+  std::unique_ptr<tracking::CleanPlate> plate_;
+  cv::Mat pen_mask_;  // the pen's silhouette, for the clean plate
+  // Runs the clean plate on this frame and fills the scene's occluder mask
+  // and plate (cleared when the plate is off or the tank not seen).
+  void UpdateRealObjects(const cv::Mat& bgr,
+                         const tracking::FrameResult& tracking);
   std::vector<sim::Obstacle> sim_obstacles_;
   // Parallel to sim_obstacles_: how each is drawn (nullopt: not drawn, as
   // voxel volumes and removed obstacles).

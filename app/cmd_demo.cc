@@ -26,7 +26,6 @@ struct DemoArgs {
   int frames = 240;
   int idle_frames = 60;
   uint64_t seed = 1;
-  std::string floor;
   PipelineArgs pipeline;  // --gl, water and effects
 };
 
@@ -38,13 +37,15 @@ int RunDemo(DemoArgs args) {
   if (!rig->pen)
     return Fail(kExitBadInput,
                 "rig file '" + args.rig + "': the demo needs a pen");
-  auto floor = MakeFloorOrReport(args.floor, *rig);
+  auto floor = MakeFloorOrReport(args.pipeline.floor, *rig);
   if (!floor) return kExitBadInput;
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
   if (!FinishPipelineOptions(&args.pipeline, "egl", &error))
     return Fail(kExitBadInput, error);
+  if (args.pipeline.options.occluders)
+    args.pipeline.options.board_floor = *floor;
   if (args.pipeline.options.window)
     return Fail(kExitBadInput, "--gl glfw: the demo is headless (egl, osmesa)");
   const PipelineOptions& options = args.pipeline.options;
@@ -68,6 +69,7 @@ int RunDemo(DemoArgs args) {
     f.index = last.index + 1 + i;
     f.time_s = f.index / seq.fps;
     f.scene.tank_from_pen.reset();
+    f.scene.occluders.clear();  // the hand left with the pen
     f.noise_seed = last.noise_seed + 1 + i;
     frames.push_back(f);
   }
@@ -137,7 +139,6 @@ CommandAction SetupDemo(CLI::App* sub) {
       ->check(CLI::Range(1, 100000));
   AddPipelineOptions(sub, &args->pipeline);
   sub->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
-  AddFloorOption(sub, &args->floor);
   return [args] { return RunDemo(*args); };
 }
 

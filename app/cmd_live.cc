@@ -37,6 +37,7 @@ int RunLive(LiveArgs& args) {
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
+  if (!SetBoardFloor(&args.pipeline, *rig)) return kExitBadInput;
   WxH want{camera->width, camera->height};
   if (!args.size.empty()) ParseWxH(args.size, &want);  // validated
 

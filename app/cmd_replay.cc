@@ -43,6 +43,7 @@ int RunReplay(ReplayArgs& args) {
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
+  if (!SetBoardFloor(&args.pipeline, *rig)) return kExitBadInput;
   auto source = FrameSource::Open(args.input, &error, args.fps);
   if (!source) return Fail(kExitBadInput, error);
 

@@ -12,10 +12,11 @@ struct Column {
   double StageTimes::*field;
 };
 const Column kColumns[] = {
-    {"cap", &StageTimes::cap},       {"det", &StageTimes::det},
-    {"pose", &StageTimes::pose},     {"drw", &StageTimes::drw},
-    {"sim", &StageTimes::sim},       {"caustics", &StageTimes::caustics},
-    {"shadow", &StageTimes::shadow}, {"total", &StageTimes::total}};
+    {"cap", &StageTimes::cap},           {"det", &StageTimes::det},
+    {"pose", &StageTimes::pose},         {"occ", &StageTimes::occ},
+    {"drw", &StageTimes::drw},           {"sim", &StageTimes::sim},
+    {"caustics", &StageTimes::caustics}, {"shadow", &StageTimes::shadow},
+    {"total", &StageTimes::total}};
 
 }  // namespace
 

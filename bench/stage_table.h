@@ -15,6 +15,7 @@ struct StageTimes {
   double cap = 0;       // capture: read / decode / synthesise the frame
   double det = 0;       // tag detection
   double pose = 0;      // pose estimation and temporal logic
+  double occ = 0;       // occluder mask and clean plate
   double sim = 0;       // water simulation
   double caustics = 0;  // caustics map (0 when skipped)
   double shadow = 0;    // shadow map pass (0 when skipped)

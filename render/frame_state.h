@@ -27,6 +27,8 @@ enum TextureUnit : int {
   kUnitReceiver = 7,
   kUnitOverlay = 8,
   kUnitFloorReturn = 9,
+  kUnitOccluders = 10,
+  kUnitPlate = 11,
 };
 
 // The height texture's mapping (HeightTexturePass).

@@ -134,7 +134,7 @@ void SolidMeshes::Create() {
 
 void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
                        const glm::dmat4& clip_from_tank, bool obstacles,
-                       bool pen) const {
+                       bool pen, double pen_grow_m) const {
   auto draw = [&](const Mesh& mesh, const glm::dmat4& tank_from_model) {
     SetUniform(p.tank_from_model, tank_from_model);
     SetUniform(p.clip_from_model, clip_from_tank * tank_from_model);
@@ -156,13 +156,12 @@ void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
   }
   if (pen && scene.pen_visible) {
     const PenGeometry& g = scene.pen;
-    draw(box_, glm::scale(scene.tank_from_pen, glm::dvec3(g.cube_edge)));
-    const glm::dmat4 shaft = glm::translate(
-        scene.tank_from_pen,
-        {0.0, 0.0, -0.5 * double(g.cube_edge) - double(g.shaft_length)});
-    draw(cylinder_,
-         glm::scale(shaft, {double(g.shaft_radius), double(g.shaft_radius),
-                            double(g.shaft_length)}));
+    const double e = g.cube_edge, r = g.shaft_radius + pen_grow_m;
+    const double len = g.shaft_length + pen_grow_m;
+    draw(box_, glm::scale(scene.tank_from_pen, glm::dvec3(e + 2 * pen_grow_m)));
+    const glm::dmat4 shaft =
+        glm::translate(scene.tank_from_pen, {0.0, 0.0, -0.5 * e - len});
+    draw(cylinder_, glm::scale(shaft, {r, r, len}));
   }
   glBindVertexArray(0);
 }

@@ -44,10 +44,12 @@ class TankWallsMesh {
 class SolidMeshes {
  public:
   void Create();
-  // Draws the scene's obstacles and/or the pen (cube and shaft) with the
-  // bound program `p` (solid.vert) projected by `clip_from_tank`.
+  // Draws the scene's obstacles and/or the pen (cube and shaft, grown by
+  // `pen_grow_m` on every side) with the bound program `p` (solid.vert)
+  // projected by `clip_from_tank`.
   void Draw(const SceneInputs& scene, const ModelUniforms& p,
-            const glm::dmat4& clip_from_tank, bool obstacles, bool pen) const;
+            const glm::dmat4& clip_from_tank, bool obstacles, bool pen,
+            double pen_grow_m = 0.0) const;
 
  private:
   Mesh box_, cylinder_;

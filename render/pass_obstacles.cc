@@ -66,7 +66,8 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   if (scene.pen_visible && scene.effects.pen_occludes) {
     state.ColorMask(false);
     glUseProgram(depth_.id());
-    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true);
+    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true,
+                scene.pen_margin_m);
   }
 }
 

@@ -29,6 +29,18 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->glint_peak = p.Uniform("u_glint_peak");
   s->return_tint = p.Uniform("u_return_tint");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
+  glUniform1i(p.Uniform("u_occluders"), kUnitOccluders);
+  glUniform1i(p.Uniform("u_plate"), kUnitPlate);
+  s->pen_on = p.Uniform("u_pen_on");
+  s->pen_tip = p.Uniform("u_pen_tip");
+  s->pen_axis = p.Uniform("u_pen_axis");
+  s->pen_length = p.Uniform("u_pen_length");
+  s->pen_radius = p.Uniform("u_pen_radius");
+  s->pen_cube = p.Uniform("u_pen_cube");
+  s->pen_margin = p.Uniform("u_pen_margin");
+  s->plate_map = p.Uniform("u_plate_map");
+  s->plate_gain = p.Uniform("u_plate_gain");
+  s->plate_on = p.Uniform("u_plate_on");
   return true;
 }
 
@@ -61,11 +73,13 @@ void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
 bool WaterPass::Create(const Options& options, std::string* error) {
   options_ = options;
   for (int v = 0; v < kVariants; ++v) {
+    if ((v & kRealObjects) && !(v & kRefraction)) continue;
     std::string defines;
     if (v & kShadows) defines += "#define SHADOWS 1\n";
     if (v & kCaustics) defines += "#define CAUSTICS 1\n";
     if (v & kReflection) defines += "#define REFLECTION 1\n";
     if (v & kRefraction) defines += "#define REFRACTION 1\n";
+    if (v & kRealObjects) defines += "#define REAL_OBJECTS 1\n";
     if (!BuildShading(&variants_[v], defines, options, error)) return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
@@ -117,15 +131,18 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   return true;
 }
 
-void WaterPass::Draw(const FrameState& f, bool have_video) {
+void WaterPass::Draw(const FrameState& f, bool have_video,
+                     const RealObjectsState& real) {
   const Effects& fx = f.scene->effects;
+  const bool with_real = fx.refraction && real.any() && have_video;
   const Shading& shading =
       fx.flat_water
           ? flat_
           : variants_[(fx.shadows ? kShadows : 0) |
                       (fx.caustics ? kCaustics : 0) |
                       (fx.reflection && have_video ? kReflection : 0) |
-                      (fx.refraction ? kRefraction : 0)];
+                      (fx.refraction ? kRefraction : 0) |
+                      (with_real ? kRealObjects : 0)];
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -156,6 +173,20 @@ void WaterPass::Draw(const FrameState& f, bool have_video) {
   glUniform1f(shading.glint_peak, w.glint_peak);
   glUniform1f(shading.inv_alpha2, w.inv_alpha2);
   SetUniform(shading.return_tint, return_tint_);
+  if (with_real && !fx.flat_water) {
+    glUniform1f(shading.pen_on, real.pen ? 1.0f : 0.0f);
+    SetUniform(shading.pen_tip, real.pen_tip);
+    SetUniform(shading.pen_axis, real.pen_axis);
+    glUniform1f(shading.pen_length, real.pen_length);
+    glUniform1f(shading.pen_radius, real.pen_radius);
+    glUniform4f(shading.pen_cube, real.pen_cube.x, real.pen_cube.y,
+                real.pen_cube.z, real.pen_cube.w);
+    glUniform1f(shading.pen_margin, real.pen_margin);
+    glUniform4f(shading.plate_map, real.plate_map.x, real.plate_map.y,
+                real.plate_map.z, real.plate_map.w);
+    glUniform1f(shading.plate_gain, real.plate_gain);
+    glUniform1f(shading.plate_on, real.plate ? 1.0f : 0.0f);
+  }
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   state.StencilMask(0);

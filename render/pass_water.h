@@ -17,6 +17,7 @@
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
 #include "render/optics.h"
+#include "render/pass_real.h"
 
 namespace ripple::render::internal {
 
@@ -31,8 +32,8 @@ class WaterPass {
 
   // Draws into the bound output (depth laid by earlier passes), with the
   // frame's textures bound to their units. `have_video`: the reflection map
-  // holds something.
-  void Draw(const FrameState& f, bool have_video);
+  // holds something; `real`: the real pen and the plate (RealObjectsPass).
+  void Draw(const FrameState& f, bool have_video, const RealObjectsState& real);
   // The return's ratio of the bands to green (see UpdateFloorReturn).
   const glm::vec3& return_tint() const { return return_tint_; }
 
@@ -47,7 +48,8 @@ class WaterPass {
     kCaustics = 2,
     kReflection = 4,
     kRefraction = 8,
-    kVariants = 16,
+    kRealObjects = 16,  // only with kRefraction
+    kVariants = 32,
   };
   struct Shading {
     Program program;
@@ -55,6 +57,10 @@ class WaterPass {
     // Per-frame optics (FrameState::shading).
     GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
           glint_peak = -1, inv_alpha2 = -1, return_tint = -1;
+    // kRealObjects.
+    GLint pen_on = -1, pen_tip = -1, pen_axis = -1, pen_length = -1,
+          pen_radius = -1, pen_cube = -1, pen_margin = -1, plate_map = -1,
+          plate_gain = -1, plate_on = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

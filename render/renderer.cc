@@ -14,6 +14,7 @@
 #include "render/pass_height.h"
 #include "render/pass_obstacles.h"
 #include "render/pass_present.h"
+#include "render/pass_real.h"
 #include "render/pass_shadow.h"
 #include "render/pass_timer.h"
 #include "render/pass_video.h"
@@ -68,6 +69,8 @@ struct Renderer::Impl {
   internal::WaterPass water;
   internal::WallsPass walls;
   internal::PresentPass present;
+  internal::RealObjectsPass real;
+  internal::RealObjectsState real_state;
   PassTimer timer;
 
   // The water's optics for the scene's light and depth, recomputed only
@@ -106,7 +109,8 @@ bool Renderer::Impl::Init(std::string* error) {
   if (!video.Create(srgb, error) || !shadow.Create(shadow_options, error) ||
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
-      !walls.Create(walls_options, error) || !present.Create(error)) {
+      !walls.Create(walls_options, error) || !present.Create(error) ||
+      !real.Create(srgb, error)) {
     return false;
   }
   solids.Create();
@@ -136,7 +140,8 @@ const WaterShading& Renderer::Impl::Shading(const SceneInputs& scene) {
 bool Renderer::Impl::AllocateOutput(std::string* error) {
   if (!target.Allocate(k.width, k.height, error)) return false;
   const bool ok = obstacles.AllocateOutput(k.width, k.height) &&
-                  video.AllocateOutput(k.width, k.height);
+                  video.AllocateOutput(k.width, k.height) &&
+                  real.AllocateOutput(k.width, k.height);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (!ok) *error = "video framebuffers incomplete";
   return ok;
@@ -219,6 +224,7 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.timings.surface_uploaded = m.height.Update(scene);
   f.height = m.height.info();
   m.walls_mesh.Update(scene.tank);
+  m.real.Upload(scene, &m.real_state);
   m.timings.upload_ms = MsSince(t_start);
 
   // Effects maps, only when their keys changed.
@@ -239,8 +245,9 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.video.Draw(m.k, m.target.fbo(), fx.reflection);
   m.target.BeginFrame(/*keep_color=*/m.video.have_video());
   m.BindFrameTextures();
+  m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
-  m.water.Draw(f, m.video.have_video());
+  m.water.Draw(f, m.video.have_video(), m.real_state);
   if (fx.walls) m.walls.Draw(f, m.walls_mesh, m.water.return_tint());
   m.timings.main_ms = m.timer.End(PassTimer::kMain);
 

@@ -32,6 +32,35 @@ struct HeightFieldView {
   std::uint64_t change_counter = 0;
 };
 
+// Pixels of the output image (ideal pinhole, top row first) where something
+// real stands in front of the virtual tank (a hand, a sleeve): nonzero bytes.
+// The water, the walls and the obstacles leave the video there, and the
+// water's refraction does not take them for the floor. Only the window
+// (x, y, w, h) is read; the mask is taken as zero outside it. Not owned;
+// read during Render(). Null: nothing real in front.
+struct OccluderMaskView {
+  const std::uint8_t* mask = nullptr;
+  int width = 0, height = 0;  // the output's size
+  int stride_bytes = 0;       // 0 means width
+  glm::ivec4 window{0};       // x, y, w, h (pixels)
+};
+
+// The board with nothing on it (tracking's clean plate), in the tank frame:
+// BGRA8 (alpha 255 where known), the video's encoding, relative to `gain`;
+// the centre of texel (column i, row j) is the tank point corner_m +
+// texel_m * (i + 0.5, j + 0.5). Where the video shows a real object over a
+// board point the refraction looks for (the pen, a hand), the water takes
+// the board from here. Not owned; uploaded when change_counter moves.
+struct BoardPlateView {
+  const std::uint8_t* bgra = nullptr;
+  int width = 0, height = 0;
+  int stride_bytes = 0;  // 0 means width * 4
+  glm::dvec2 corner_m{0.0};
+  double texel_m = 0;
+  float gain = 1.0f;  // this frame's brightness over the plate's (encoded)
+  std::uint64_t change_counter = 0;
+};
+
 // The virtual glass tank standing on the board.
 struct TankGeometry {
   float size_x = 0.17f, size_y = 0.11f;  // inner size, metres
@@ -81,6 +110,12 @@ struct SceneInputs {
   bool pen_visible = false;
   glm::dmat4 tank_from_pen{1.0};
   PenGeometry pen;
+  // How far the real pen may lie outside its tracked geometry in the
+  // video (tracking error, blur), metres: the phantom that hides the water
+  // and the test for pen pixels in the refraction are grown by this.
+  float pen_margin_m = 0.001f;
+  OccluderMaskView occluders;
+  BoardPlateView plate;
   std::vector<Obstacle> obstacles;
   // Direction towards the (directional) light, tank frame; normalised inside.
   glm::dvec3 light_in_tank{0.35, 0.25, 1.0};

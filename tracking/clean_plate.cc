@@ -48,7 +48,8 @@ bool CleanPlateOptions::IsValid(std::string* error) const {
     return fail("takeover must be 1-60000 frames");
   if (!(learn_rate > 0 && learn_rate <= 1))
     return fail("learn rate must be in (0, 1]");
-  if (min_region_px < 0) return fail("minimum region must be >= 0");
+  if (min_region_texels < 0) return fail("minimum region must be >= 0");
+  if (grow_px < 0 || grow_px > 16) return fail("mask growth must be 0-16 px");
   return true;
 }
 
@@ -86,7 +87,7 @@ void CleanPlate::Reset() {
   challenger_n_ = cv::Mat::zeros(plate_h_, plate_w_, CV_16U);
   plate_bgra_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8UC4);
   foreground_.setTo(0);
-  last_foreground_.release();
+  plate_foreground_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8U);
   window_ = cv::Rect();
   gain_ = 1.0;
   ++plate_counter_;
@@ -98,13 +99,25 @@ bool CleanPlate::SetBoardPrior(const cv::Mat& design_levels,
   if (design_levels.type() != CV_32FC3 || valid.type() != CV_8U ||
       design_levels.size() != plate_size() || valid.size() != plate_size())
     return false;
-  prior_.create(plate_h_, plate_w_, CV_32FC4);
+  prior_.create(plate_h_, plate_w_, CV_8UC4);
   for (int j = 0; j < plate_h_; ++j) {
     const cv::Vec3f* d = design_levels.ptr<cv::Vec3f>(j);
     const std::uint8_t* v = valid.ptr(j);
-    cv::Vec4f* out = prior_.ptr<cv::Vec4f>(j);
+    cv::Vec4b* out = prior_.ptr<cv::Vec4b>(j);
     for (int i = 0; i < plate_w_; ++i)
-      out[i] = cv::Vec4f(d[i][0], d[i][1], d[i][2], v[i] ? 255.0f : 0.0f);
+      out[i] =
+          cv::Vec4b(cv::saturate_cast<std::uint8_t>(d[i][0]),
+                    cv::saturate_cast<std::uint8_t>(d[i][1]),
+                    cv::saturate_cast<std::uint8_t>(d[i][2]), v[i] ? 255 : 0);
+  }
+  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+  cv::erode(prior_, prior_lo_, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
+  cv::dilate(prior_, prior_hi_, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
+  // Validity over the whole neighbourhood: the eroded alpha, on both.
+  for (int j = 0; j < plate_h_; ++j) {
+    cv::Vec4b* lo = prior_lo_.ptr<cv::Vec4b>(j);
+    cv::Vec4b* hi = prior_hi_.ptr<cv::Vec4b>(j);
+    for (int i = 0; i < plate_w_; ++i) hi[i][3] = lo[i][3];
   }
   return true;
 }
@@ -127,79 +140,142 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   // The last window's mask is cleared; the new one is written below.
   if (window_.area() > 0) foreground_(window_).setTo(0);
   window &= cv::Rect(0, 0, camera_.width, camera_.height);
-  window_ = window;
-  if (bgr.type() != CV_8UC3 || bgr.cols != camera_.width ||
-      bgr.rows != camera_.height || window.area() <= 0) {
-    window_ = cv::Rect();
-    last_foreground_.release();
+  window_ = cv::Rect();
+  auto give_up = [&]() -> const CleanPlateSummary& {
+    plate_foreground_.setTo(0);
     return summary_;
-  }
-  // The plate's corners must lie in front of the camera, or the homography
-  // folds the board behind it into the image.
+  };
+  if (bgr.type() != CV_8UC3 || bgr.cols != camera_.width ||
+      bgr.rows != camera_.height || window.area() <= 0)
+    return give_up();
   const cv::Matx33d image_from_board = ImageFromBoard(camera_, cam_from_tank);
   const double s = options_.texel_m;
   const cv::Matx33d board_from_plate(s, 0, origin_m_.x + 0.5 * s, 0, s,
                                      origin_m_.y + 0.5 * s, 0, 0, 1);
-  const cv::Matx33d window_from_image(1, 0, -window.x, 0, 1, -window.y, 0, 0,
-                                      1);
-  const cv::Matx33d window_from_plate =
-      window_from_image * image_from_board * board_from_plate;
+  const cv::Matx33d image_from_plate = image_from_board * board_from_plate;
+  // The plate's corners must lie in front of the camera, or the homography
+  // folds the board behind it into the image.
   for (int c = 0; c < 4; ++c) {
     const cv::Vec3d corner((c & 1) ? plate_w_ : 0, (c & 2) ? plate_h_ : 0, 1);
-    if ((image_from_board * board_from_plate * corner)[2] <= 1e-6) {
-      window_ = cv::Rect();
-      last_foreground_.release();
-      return summary_;
-    }
+    if ((image_from_plate * corner)[2] <= 1e-6) return give_up();
   }
+  // The plate texels the window sees (its corners on the board, grown by
+  // three texels for the neighbourhoods and the interpolation).
+  const cv::Matx33d plate_from_image = image_from_plate.inv();
+  double x0 = 1e18, y0 = 1e18, x1 = -1e18, y1 = -1e18;
+  for (int c = 0; c < 4; ++c) {
+    const cv::Vec3d q = plate_from_image *
+                        cv::Vec3d(window.x + ((c & 1) ? window.width : 0),
+                                  window.y + ((c & 2) ? window.height : 0), 1);
+    if (q[2] <= 1e-12) {  // a window corner above the horizon
+      x0 = y0 = -1e18;
+      x1 = y1 = 1e18;
+      break;
+    }
+    x0 = std::min(x0, q[0] / q[2]);
+    x1 = std::max(x1, q[0] / q[2]);
+    y0 = std::min(y0, q[1] / q[2]);
+    y1 = std::max(y1, q[1] / q[2]);
+  }
+  const cv::Rect plate_rect(0, 0, plate_w_, plate_h_);
+  auto to_int = [](double v) {
+    return static_cast<int>(std::clamp(v, -1e6, 1e6));
+  };
+  const cv::Rect roi =
+      cv::Rect(
+          cv::Point(to_int(std::floor(x0)) - 3, to_int(std::floor(y0)) - 3),
+          cv::Point(to_int(std::ceil(x1)) + 4, to_int(std::ceil(y1)) + 4)) &
+      plate_rect;
+  if (roi.area() <= 0) return give_up();
+  window_ = window;
+  summary_.visited_texels = roi.area();
+  const cv::Matx33d window_from_roi =
+      cv::Matx33d(1, 0, -window.x, 0, 1, -window.y, 0, 0, 1) *
+      image_from_plate * cv::Matx33d(1, 0, roi.x, 0, 1, roi.y, 0, 0, 1);
+
   cv::Mat frame;
   Undistort(bgr, window, &frame);
-  cv::Mat plate_in_window;
-  cv::warpPerspective(plate_bgra_, plate_in_window, window_from_plate,
-                      window.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                      cv::Scalar::all(0));
-  cv::Mat prior_in_window;
-  if (!prior_.empty())
-    cv::warpPerspective(prior_, prior_in_window, window_from_plate,
-                        window.size(), cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                        cv::Scalar::all(0));
+  // The frame on the plate: alpha 255 where it may teach, 128 within 2
+  // pixels of known objects (their blurred edges: judged, not learned), 0 on
+  // them.
+  cv::Mat& frame_bgra = frame_bgra_;
+  cv::cvtColor(frame, frame_bgra, cv::COLOR_BGR2BGRA);
+  const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});
   cv::Mat exclude_in_window;
-  if (!exclude.empty()) exclude_in_window = exclude(window);
-  if (last_foreground_.size() != window.size()) last_foreground_.release();
-  EstimateGains(frame, plate_in_window, prior_in_window, exclude_in_window);
-  Classify(frame, plate_in_window, prior_in_window, exclude_in_window);
-  Learn(frame, exclude_in_window, window_from_plate);
+  if (!exclude.empty()) {
+    exclude_in_window = exclude(window);
+    cv::dilate(exclude_in_window, grown_, k5);
+    std::vector<cv::Mat> ch;
+    cv::split(frame_bgra, ch);
+    ch[3].setTo(128, grown_);
+    ch[3].setTo(0, exclude_in_window);
+    cv::merge(ch, frame_bgra);
+  }
+  cv::Mat& seen = seen_;
+  cv::warpPerspective(frame_bgra, seen, window_from_roi, roi.size(),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  EstimateGains(seen, roi);
+
+  cv::Mat& mask = mask_;
+  Classify(seen, roi, &mask);
+  // Into the window: bilinear, then half coverage; never over known
+  // objects.
+  cv::Mat& in_window = in_window_;
+  cv::warpPerspective(mask, in_window, window_from_roi, window.size(),
+                      cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                      cv::Scalar::all(0));
+  cv::Mat out = foreground_(window);
+  cv::threshold(in_window, out, 127, 255, cv::THRESH_BINARY);
+  if (options_.grow_px > 0) {
+    const int k = 2 * options_.grow_px + 1;
+    cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_RECT, {k, k}));
+  }
+  if (!exclude_in_window.empty()) out.setTo(0, exclude_in_window);
+  summary_.foreground_px = cv::countNonZero(out);
+
+  // Texels at the mask and 2 around it (an occluder's blurred edge mixes
+  // it with the board) only feed the challengers.
+  cv::Mat& near_fg = near_fg_;
+  cv::dilate(mask, near_fg, k5);
+  for (int j = 0; j < roi.height; ++j) {
+    cv::Vec4b* o = seen.ptr<cv::Vec4b>(j);
+    const std::uint8_t* m = near_fg.ptr(j);
+    for (int i = 0; i < roi.width; ++i)
+      if (m[i] && o[i][3] >= 250) o[i][3] = 128;
+  }
+  Learn(seen, roi);
+  plate_foreground_.setTo(0);
+  mask.copyTo(plate_foreground_(roi));
   summary_.gain = gain_;
   return summary_;
 }
 
-void CleanPlate::EstimateGains(const cv::Mat& frame, const cv::Mat& plate,
-                               const cv::Mat& prior, const cv::Mat& exclude) {
+void CleanPlate::EstimateGains(const cv::Mat& seen, const cv::Rect& roi) {
   // The plate's gain: the median ratio of frame to plate brightness over
-  // known, bright enough board pixels (tag black carries no exposure
-  // information); the design's: per channel over its paper.
-  const int w = frame.cols, h = frame.rows;
+  // known, bright enough board texels (tag black carries no exposure
+  // information); the design's: per channel over its paper. Medians ignore
+  // an occluder over less than half the board.
   std::vector<float> ratios, prior_ratios[3];
-  ratios.reserve(static_cast<size_t>(w * h / 4 + 1));
-  for (int y = 0; y < h; y += 2) {
-    const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
-    const cv::Vec4b* p = plate.ptr<cv::Vec4b>(y);
-    const cv::Vec4f* q = prior.empty() ? nullptr : prior.ptr<cv::Vec4f>(y);
-    const std::uint8_t* ex = exclude.empty() ? nullptr : exclude.ptr(y);
-    const std::uint8_t* last =
-        last_foreground_.empty() ? nullptr : last_foreground_.ptr(y);
-    for (int x = 0; x < w; x += 2) {
-      if ((ex && ex[x]) || (last && last[x])) continue;
-      if (p[x][3] == 255) {
-        const int sp = p[x][0] + p[x][1] + p[x][2];
+  ratios.reserve(static_cast<size_t>(roi.area() / 4 + 1));
+  // Every third texel each way: thousands of samples.
+  for (int j = 0; j < roi.height; j += 3) {
+    const cv::Vec4b* o = seen.ptr<cv::Vec4b>(j);
+    const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(roi.y + j) + roi.x;
+    const cv::Vec4b* q =
+        prior_.empty() ? nullptr : prior_.ptr<cv::Vec4b>(roi.y + j) + roi.x;
+    for (int i = 0; i < roi.width; i += 3) {
+      if (o[i][3] != 255) continue;
+      if (p[i][3] == 255) {
+        const int sp = p[i][0] + p[i][1] + p[i][2];
         if (sp >= 90)
-          ratios.push_back(static_cast<float>(f[x][0] + f[x][1] + f[x][2]) /
+          ratios.push_back(static_cast<float>(o[i][0] + o[i][1] + o[i][2]) /
                            static_cast<float>(sp));
       }
-      if (q && q[x][3] == 255 && q[x][0] > 150 && q[x][1] > 150 &&
-          q[x][2] > 150) {
+      if (q && q[i][3] == 255 && q[i][0] > 150 && q[i][1] > 150 &&
+          q[i][2] > 150) {
         for (int c = 0; c < 3; ++c)
-          prior_ratios[c].push_back(f[x][c] / q[x][c]);
+          prior_ratios[c].push_back(static_cast<float>(o[i][c]) / q[i][c]);
       }
     }
   }
@@ -208,45 +284,15 @@ void CleanPlate::EstimateGains(const cv::Mat& frame, const cv::Mat& plate,
     std::nth_element(v->begin(), mid, v->end());
     return std::clamp(*mid, 0.25f, 4.0f);
   };
-  if (ratios.size() >= 200) gain_ = median(&ratios);
-  if (prior_ratios[0].size() >= 200)
+  if (ratios.size() >= 100) gain_ = median(&ratios);
+  if (prior_ratios[0].size() >= 100)
     for (int c = 0; c < 3; ++c) prior_gain_[c] = median(&prior_ratios[c]);
 }
 
 namespace {
 
-// Largest excess of `f` over the range [lo, hi], 8-bit levels.
-inline float Excess(const cv::Vec3f& f, const cv::Vec3f& lo,
-                    const cv::Vec3f& hi) {
-  float d = 0;
-  for (int c = 0; c < 3; ++c) d = std::max({d, lo[c] - f[c], f[c] - hi[c]});
-  return d;
-}
-
-// Distance (largest channel) of `f` from the colour segment lo-hi: the
-// mixtures a pixel straddling the neighbourhood's darkest and brightest
-// colours can take. (A box test on the channel ranges would accept any
-// colour between a black tag cell and white paper, a hand included.)
-inline float SegmentDistance(const cv::Vec3f& f, const cv::Vec3f& lo,
-                             const cv::Vec3f& hi) {
-  const cv::Vec3f d = hi - lo;
-  const float dd = d.dot(d);
-  const float t = dd > 0 ? std::clamp((f - lo).dot(d) / dd, 0.0f, 1.0f) : 0.0f;
-  const cv::Vec3f r = f - (lo + t * d);
-  return std::max({std::abs(r[0]), std::abs(r[1]), std::abs(r[2])});
-}
-
-// A shadow on `q`: darker by a common factor of at least `min_ratio`, the
-// chromaticity kept within `chroma_tol` of the brightness (+ `noise`).
-inline bool IsShadow(const cv::Vec3f& f, const cv::Vec3f& q, float min_ratio,
-                     float chroma_tol, float noise) {
-  const float qq = q.dot(q);
-  if (!(qq > 0)) return false;
-  const float a = f.dot(q) / qq;
-  if (!(a >= min_ratio && a < 1.0f)) return false;
-  const cv::Vec3f r = f - a * q;
-  const float res = std::max({std::abs(r[0]), std::abs(r[1]), std::abs(r[2])});
-  return res <= chroma_tol * a * std::max({q[0], q[1], q[2]}) + noise;
+inline cv::Vec3f Bgr(const cv::Vec4b& v) {
+  return {float(v[0]), float(v[1]), float(v[2])};
 }
 
 }  // namespace
@@ -260,7 +306,8 @@ bool CleanPlate::PriorAllows(const cv::Vec3f& o, const cv::Vec3f& p) const {
   const float lo = static_cast<float>(options_.illumination_low);
   const float hi = static_cast<float>(options_.illumination_high);
   const float t_low = static_cast<float>(options_.low_threshold);
-  if (Excess(o, lo * q, hi * q) > t_low) return false;
+  for (int c = 0; c < 3; ++c)
+    if (o[c] < lo * q[c] - t_low || o[c] > hi * q[c] + t_low) return false;
   const float qq = q.dot(q);
   if (!(qq > 0)) return true;
   const float a = o.dot(q) / qq;
@@ -271,190 +318,200 @@ bool CleanPlate::PriorAllows(const cv::Vec3f& o, const cv::Vec3f& p) const {
                     0.25f * t_low;
 }
 
-void CleanPlate::Classify(const cv::Mat& frame, const cv::Mat& plate,
-                          const cv::Mat& prior, const cv::Mat& exclude) {
-  const int w = frame.cols, h = frame.rows;
+void CleanPlate::Classify(const cv::Mat& seen, const cv::Rect& roi,
+                          cv::Mat* mask) {
+  const int w = roi.width, h = roi.height;
+  // The learned plate's 3x3 range (one texel more each way for the
+  // neighbourhoods).
+  const cv::Rect grown = cv::Rect(roi.x - 1, roi.y - 1, w + 2, h + 2) &
+                         cv::Rect(0, 0, plate_w_, plate_h_);
   const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
-  cv::Mat lo, hi, prior_lo, prior_hi;
-  cv::erode(plate, lo, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
-  cv::dilate(plate, hi, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
-  if (!prior.empty()) {
-    cv::erode(prior, prior_lo, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
-    cv::dilate(prior, prior_hi, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
-  }
+  cv::Mat& plo = plo_;
+  cv::Mat& phi = phi_;
+  cv::erode(plate_bgra_(grown), plo, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
+  cv::dilate(plate_bgra_(grown), phi, k3, {-1, -1}, 1, cv::BORDER_REPLICATE);
+  const int dx = roi.x - grown.x, dy = roi.y - grown.y;
   const float g = static_cast<float>(gain_);
-  const cv::Vec3f& pg = prior_gain_;
   const float ill_lo = static_cast<float>(options_.illumination_low);
   const float ill_hi = static_cast<float>(options_.illumination_high);
   const float t_low = static_cast<float>(options_.low_threshold);
   const float t_high = static_cast<float>(options_.high_threshold);
   const float min_ratio = static_cast<float>(options_.shadow_min_ratio);
   const float chroma_tol = static_cast<float>(options_.shadow_chroma_tolerance);
-  cv::Mat weak(h, w, CV_8U), strong(h, w, CV_8U);
-  for (int y = 0; y < h; ++y) {
-    const cv::Vec3b* f8 = frame.ptr<cv::Vec3b>(y);
-    const cv::Vec4b* p = plate.ptr<cv::Vec4b>(y);
-    const cv::Vec4b* pl = lo.ptr<cv::Vec4b>(y);
-    const cv::Vec4b* ph = hi.ptr<cv::Vec4b>(y);
-    const cv::Vec4f* q = prior.empty() ? nullptr : prior.ptr<cv::Vec4f>(y);
-    const cv::Vec4f* ql = prior.empty() ? nullptr : prior_lo.ptr<cv::Vec4f>(y);
-    const cv::Vec4f* qh = prior.empty() ? nullptr : prior_hi.ptr<cv::Vec4f>(y);
-    const std::uint8_t* ex = exclude.empty() ? nullptr : exclude.ptr(y);
-    const std::uint8_t* last =
-        last_foreground_.empty() ? nullptr : last_foreground_.ptr(y);
-    std::uint8_t* wk = weak.ptr(y);
-    std::uint8_t* st = strong.ptr(y);
-    for (int x = 0; x < w; ++x) {
-      wk[x] = st[x] = 0;
-      if (ex && ex[x]) continue;
-      const cv::Vec3f f(f8[x][0], f8[x][1], f8[x][2]);
-      cv::Vec3f e_lo, e_hi, centre;
-      float shadow_ratio = min_ratio;
-      if (pl[x][3] == 255) {
+  const bool have_prior = !prior_.empty();
+  cv::Mat& weak = weak_;
+  cv::Mat& strong = strong_;
+  weak.create(h, w, CV_8U);
+  strong.create(h, w, CV_8U);
+  for (int j = 0; j < h; ++j) {
+    const int row = roi.y + j;
+    const cv::Vec4b* o = seen.ptr<cv::Vec4b>(j);
+    const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(row) + roi.x;
+    const cv::Vec4b* pl = plo.ptr<cv::Vec4b>(j + dy) + dx;
+    const cv::Vec4b* ph = phi.ptr<cv::Vec4b>(j + dy) + dx;
+    const cv::Vec4b* q =
+        have_prior ? prior_.ptr<cv::Vec4b>(row) + roi.x : nullptr;
+    const cv::Vec4b* ql =
+        have_prior ? prior_lo_.ptr<cv::Vec4b>(row) + roi.x : nullptr;
+    const cv::Vec4b* qh =
+        have_prior ? prior_hi_.ptr<cv::Vec4b>(row) + roi.x : nullptr;
+    const std::uint8_t* last = plate_foreground_.ptr(row) + roi.x;
+    std::uint8_t* wk = weak.ptr(j);
+    std::uint8_t* st = strong.ptr(j);
+    for (int i = 0; i < w; ++i) {
+      wk[i] = st[i] = 0;
+      // Seen this frame, not on a known object.
+      if (o[i][3] < 100) continue;
+      float lo[3], hi[3], mid[3], ratio = min_ratio;
+      if (pl[i][3] == 255) {
         // The learned plate, known over the whole neighbourhood.
-        e_lo = g * cv::Vec3f(pl[x][0], pl[x][1], pl[x][2]);
-        e_hi = g * cv::Vec3f(ph[x][0], ph[x][1], ph[x][2]);
-        centre = g * cv::Vec3f(p[x][0], p[x][1], p[x][2]);
-      } else if (q && ql[x][3] == 255) {
-        // Not learned yet: the printed design under this frame's light.
-        e_lo = ill_lo * cv::Vec3f(ql[x][0], ql[x][1], ql[x][2]).mul(pg);
-        e_hi = ill_hi * cv::Vec3f(qh[x][0], qh[x][1], qh[x][2]).mul(pg);
-        centre = cv::Vec3f(q[x][0], q[x][1], q[x][2]).mul(pg);
-        shadow_ratio *= ill_lo;
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = g * pl[i][c];
+          hi[c] = g * ph[i][c];
+          mid[c] = g * p[i][c];
+        }
+      } else if (q && ql[i][3] == 255) {
+        // Not learned yet: the printed design under this frame's light;
+        // shadows are judged against it under the dimmest light allowed.
+        for (int c = 0; c < 3; ++c) {
+          const float pg = prior_gain_[c];
+          lo[c] = ill_lo * pg * ql[i][c];
+          hi[c] = ill_hi * pg * qh[i][c];
+          mid[c] = pg * q[i][c];
+        }
+        ratio *= ill_lo;
       } else {
         continue;
       }
-      const float d = SegmentDistance(f, e_lo, e_hi);
+      const float f[3] = {float(o[i][0]), float(o[i][1]), float(o[i][2])};
+      // Distance from the segment lo-hi (the largest channel).
+      const float d0 = hi[0] - lo[0], d1 = hi[1] - lo[1], d2 = hi[2] - lo[2];
+      const float dd = d0 * d0 + d1 * d1 + d2 * d2;
+      float t = 0;
+      if (dd > 0)
+        t = std::clamp(
+            ((f[0] - lo[0]) * d0 + (f[1] - lo[1]) * d1 + (f[2] - lo[2]) * d2) /
+                dd,
+            0.0f, 1.0f);
+      const float r0 = std::abs(f[0] - lo[0] - t * d0);
+      const float r1 = std::abs(f[1] - lo[1] - t * d1);
+      const float r2 = std::abs(f[2] - lo[2] - t * d2);
+      const float d = std::max(r0, std::max(r1, r2));
       if (d <= t_low) continue;
-      if (IsShadow(f, centre, shadow_ratio, chroma_tol, 0.5f * t_low)) continue;
-      wk[x] = 255;
-      if (d > t_high || (last && last[x])) st[x] = 255;
+      // A shadow: darker by a common factor, chromaticity kept.
+      const float qq = mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2];
+      if (qq > 0) {
+        const float a = (f[0] * mid[0] + f[1] * mid[1] + f[2] * mid[2]) / qq;
+        if (a >= ratio && a < 1.0f) {
+          const float s0 = std::abs(f[0] - a * mid[0]);
+          const float s1 = std::abs(f[1] - a * mid[1]);
+          const float s2 = std::abs(f[2] - a * mid[2]);
+          const float top = std::max(mid[0], std::max(mid[1], mid[2]));
+          if (std::max(s0, std::max(s1, s2)) <=
+              chroma_tol * a * top + 0.5f * t_low)
+            continue;
+        }
+      }
+      wk[i] = 255;
+      if (d > t_high || last[i]) st[i] = 255;
     }
   }
-  // Spatial hysteresis: weak regions holding a strong pixel, big enough.
-  cv::Mat labels, stats, centroids;
+  // Spatial hysteresis: weak regions holding a strong texel, big enough.
+  cv::Mat& labels = labels_;
+  cv::Mat& stats = stats_;
   const int n =
-      cv::connectedComponentsWithStats(weak, labels, stats, centroids, 8);
+      cv::connectedComponentsWithStats(weak, labels, stats, centroids_, 8);
   std::vector<std::uint8_t> keep(static_cast<size_t>(n), 0);
-  for (int y = 0; y < h; ++y) {
-    const int* l = labels.ptr<int>(y);
-    const std::uint8_t* st = strong.ptr(y);
-    for (int x = 0; x < w; ++x)
-      if (st[x]) keep[static_cast<size_t>(l[x])] = 1;
+  for (int j = 0; j < h; ++j) {
+    const int* l = labels.ptr<int>(j);
+    const std::uint8_t* st = strong.ptr(j);
+    for (int i = 0; i < w; ++i)
+      if (st[i]) keep[static_cast<size_t>(l[i])] = 1;
   }
   keep[0] = 0;
   for (int i = 1; i < n; ++i)
-    if (stats.at<int>(i, cv::CC_STAT_AREA) < options_.min_region_px)
+    if (stats.at<int>(i, cv::CC_STAT_AREA) < options_.min_region_texels)
       keep[static_cast<size_t>(i)] = 0;
-  cv::Mat mask(h, w, CV_8U);
-  for (int y = 0; y < h; ++y) {
-    const int* l = labels.ptr<int>(y);
-    std::uint8_t* m = mask.ptr(y);
-    for (int x = 0; x < w; ++x) m[x] = keep[static_cast<size_t>(l[x])] * 255;
+  mask->create(h, w, CV_8U);
+  for (int j = 0; j < h; ++j) {
+    const int* l = labels.ptr<int>(j);
+    std::uint8_t* m = mask->ptr(j);
+    for (int i = 0; i < w; ++i) m[i] = keep[static_cast<size_t>(l[i])] * 255;
   }
-  cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, k3, {-1, -1}, 1,
+  cv::morphologyEx(*mask, *mask, cv::MORPH_CLOSE, k3, {-1, -1}, 1,
                    cv::BORDER_CONSTANT, cv::Scalar::all(0));
-  if (!exclude.empty()) mask.setTo(0, exclude);
-  mask.copyTo(foreground_(window_));
-  last_foreground_ = mask;
-  summary_.foreground_px = cv::countNonZero(mask);
 }
 
-void CleanPlate::Learn(const cv::Mat& frame, const cv::Mat& exclude,
-                       const cv::Matx33d& window_from_plate) {
-  // The frame with alpha 255 where it may teach the plate; 128 where it
-  // only feeds the challengers (foreground and 2 pixels around it: the
-  // blurred edge of an occluder mixes it with the board); 0 at known objects
-  // and 2 pixels around them. Warped onto the plate.
-  cv::Mat frame_bgra;
-  cv::cvtColor(frame, frame_bgra, cv::COLOR_BGR2BGRA);
-  const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});
-  if (!last_foreground_.empty()) {
-    cv::Mat grown;
-    cv::dilate(last_foreground_, grown, k5);
-    std::vector<cv::Mat> ch;
-    cv::split(frame_bgra, ch);
-    ch[3].setTo(128, grown);
-    cv::merge(ch, frame_bgra);
-  }
-  if (!exclude.empty()) {
-    cv::Mat grown;
-    cv::dilate(exclude, grown, k5);
-    frame_bgra.setTo(cv::Scalar(0, 0, 0, 0), grown);
-  }
-  cv::Mat seen;
-  cv::warpPerspective(frame_bgra, seen, window_from_plate,
-                      cv::Size(plate_w_, plate_h_),
-                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
+void CleanPlate::Learn(const cv::Mat& seen, const cv::Rect& roi) {
   const float inv_g = static_cast<float>(1.0 / gain_);
   const float tol = static_cast<float>(options_.low_threshold) * inv_g;
   const float rate = static_cast<float>(options_.learn_rate);
   const int cap = options_.evidence_cap_frames;
   const int takeover = options_.takeover_frames;
-  int learned = 0, known = 0;
+  int learned = 0;
   bool changed = false;
-  for (int j = 0; j < plate_h_; ++j) {
+  for (int j = 0; j < roi.height; ++j) {
     const cv::Vec4b* o8 = seen.ptr<cv::Vec4b>(j);
-    cv::Vec3f* a = background_.ptr<cv::Vec3f>(j);
-    cv::Vec3f* b = challenger_.ptr<cv::Vec3f>(j);
-    std::uint16_t* na = background_n_.ptr<std::uint16_t>(j);
-    std::uint16_t* nb = challenger_n_.ptr<std::uint16_t>(j);
-    cv::Vec4b* out = plate_bgra_.ptr<cv::Vec4b>(j);
-    const cv::Vec4f* design =
-        prior_.empty() ? nullptr : prior_.ptr<cv::Vec4f>(j);
-    for (int i = 0; i < plate_w_; ++i) {
-      if (o8[i][3] >= 100) {
-        const cv::Vec3f o(o8[i][0] * inv_g, o8[i][1] * inv_g, o8[i][2] * inv_g);
-        // Colours the printed design rules out are never board; pixels at
-        // an occluder only feed the challenger.
-        const bool design_ok =
-            !design || design[i][3] != 255 ||
-            PriorAllows(cv::Vec3f(o8[i][0], o8[i][1], o8[i][2]),
-                        cv::Vec3f(design[i][0], design[i][1], design[i][2]));
-        const bool learn = o8[i][3] >= 250 && design_ok;
-        if (learn) ++learned;
-        if (na[i] == 0) {
-          if (learn) {
-            a[i] = o;
-            na[i] = 1;
-          }
-        } else if (MaxAbs3(o, a[i]) <= tol) {
-          if (learn) {
-            a[i] += rate * (o - a[i]);
-            na[i] = static_cast<std::uint16_t>(std::min<int>(cap, na[i] + 1));
-            if (nb[i] > 0) --nb[i];
-          }
-        } else if (nb[i] > 0 && MaxAbs3(o, b[i]) <= tol) {
-          b[i] += (o - b[i]) * (1.0f / (nb[i] + 1));
-          nb[i] = static_cast<std::uint16_t>(
-              std::min<int>(std::max(cap, takeover) + 1, nb[i] + 1));
-          if (nb[i] > na[i] && nb[i] >= takeover && design_ok) {
-            std::swap(a[i], b[i]);
-            na[i] = nb[i];
-            nb[i] = 0;
-          }
-        } else {
-          b[i] = o;
-          nb[i] = 1;
+    const int row = roi.y + j;
+    cv::Vec3f* a = background_.ptr<cv::Vec3f>(row) + roi.x;
+    cv::Vec3f* b = challenger_.ptr<cv::Vec3f>(row) + roi.x;
+    std::uint16_t* na = background_n_.ptr<std::uint16_t>(row) + roi.x;
+    std::uint16_t* nb = challenger_n_.ptr<std::uint16_t>(row) + roi.x;
+    cv::Vec4b* out = plate_bgra_.ptr<cv::Vec4b>(row) + roi.x;
+    const cv::Vec4b* design =
+        prior_.empty() ? nullptr : prior_.ptr<cv::Vec4b>(row) + roi.x;
+    for (int i = 0; i < roi.width; ++i) {
+      if (o8[i][3] < 100) continue;
+      const cv::Vec3f o(o8[i][0] * inv_g, o8[i][1] * inv_g, o8[i][2] * inv_g);
+      // Colours the printed design rules out are never board (asked only
+      // where a colour would become background); pixels at an occluder only
+      // feed the challenger.
+      auto design_ok = [&]() {
+        return !design || design[i][3] != 255 ||
+               PriorAllows(Bgr(o8[i]), Bgr(design[i]));
+      };
+      const bool learnable = o8[i][3] >= 250;
+      if (na[i] == 0) {
+        if (learnable && design_ok()) {
+          a[i] = o;
+          na[i] = 1;
+          ++learned;
         }
-        if (na[i] > 0) {
-          const cv::Vec4b v(cv::saturate_cast<std::uint8_t>(a[i][0]),
-                            cv::saturate_cast<std::uint8_t>(a[i][1]),
-                            cv::saturate_cast<std::uint8_t>(a[i][2]), 255);
-          if (v != out[i]) {
-            out[i] = v;
-            changed = true;
-          }
+      } else if (MaxAbs3(o, a[i]) <= tol) {
+        if (learnable) {
+          ++learned;
+          a[i] += rate * (o - a[i]);
+          na[i] = static_cast<std::uint16_t>(std::min<int>(cap, na[i] + 1));
+          if (nb[i] > 0) --nb[i];
+        }
+      } else if (nb[i] > 0 && MaxAbs3(o, b[i]) <= tol) {
+        b[i] += (o - b[i]) * (1.0f / (nb[i] + 1));
+        nb[i] = static_cast<std::uint16_t>(
+            std::min<int>(std::max(cap, takeover) + 1, nb[i] + 1));
+        if (nb[i] > na[i] && nb[i] >= takeover && design_ok()) {
+          std::swap(a[i], b[i]);
+          na[i] = nb[i];
+          nb[i] = 0;
+        }
+      } else {
+        b[i] = o;
+        nb[i] = 1;
+      }
+      if (na[i] > 0) {
+        const cv::Vec4b v(cv::saturate_cast<std::uint8_t>(a[i][0]),
+                          cv::saturate_cast<std::uint8_t>(a[i][1]),
+                          cv::saturate_cast<std::uint8_t>(a[i][2]), 255);
+        if (v != out[i]) {
+          out[i] = v;
+          changed = true;
         }
       }
-      if (na[i] > 0) ++known;
     }
   }
   if (changed) ++plate_counter_;
   summary_.plate_changed = changed;
   summary_.learned_texels = learned;
-  summary_.known_texels = known;
+  summary_.known_texels = cv::countNonZero(background_n_);
 }
 
 cv::Rect TankWindow(const Camera& camera, const Pose& cam_from_tank,

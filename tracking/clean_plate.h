@@ -16,19 +16,24 @@
 // global gain (the camera's exposure and white balance drift; the gain of each
 // frame is the median ratio of frame to plate over the board).
 //
-// Per frame, in the ideal-pinhole image (the camera's intrinsics without
-// lens distortion: the renderer's output), inside a window around the tank:
-//   1. the plate is warped into the window by the board's homography;
-//   2. a pixel differs when it lies outside the plate's 3x3 neighbourhood
-//      range (times the gain) by more than a threshold: the range absorbs a
-//      pixel of registration error at the printed edges; a darkening by a
-//      common factor that keeps the plate's chromaticity is a shadow, not an
-//      occluder (Horprasert et al. 1999's brightness/chromaticity split);
+// Per frame, on the plate texels a window around the tank sees:
+//   1. the frame (undistorted to the ideal pinhole, the renderer's output)
+//      is warped onto the plate by the board's homography;
+//   2. a texel differs when its colour lies off the segment between the
+//      darkest and brightest colours of the plate's 3x3 neighbourhood (times
+//      the gain) by more than a threshold: the segment holds the mixtures a
+//      texel of registration error at a printed edge can show, and nothing
+//      else; a darkening by a common factor that keeps the plate's
+//      chromaticity is a shadow, not an occluder (Horprasert et al. 1999's
+//      brightness/chromaticity split);
 //   3. hysteresis: differing regions (low threshold) are kept when they hold
-//      a strong pixel (high threshold) or were foreground in the last frame;
-//      small blobs are dropped and the mask is closed by one pixel;
-//   4. the plate learns from the frame, except where `exclude` says a known
-//      object is (the pen).
+//      a strong texel (high threshold) or were foreground in the last frame
+//      (in tank coordinates, so a moving camera keeps them); small blobs are
+//      dropped and the mask is closed by one texel;
+//   4. the mask is warped back into the window (ideal-pinhole pixels) and
+//      grown by `grow_px`;
+//   5. the plate learns from the frame, except where `exclude` says a known
+//      object is (the pen) and next to the mask.
 // The printed board is known (`SetBoardPrior`: the sheet's design as the
 // frame would show it under white light): where the plate has not learned a
 // texel yet, a pixel is compared with the design instead (times a
@@ -54,8 +59,9 @@ namespace ripple::tracking {
 
 struct CleanPlateOptions {
   double texel_m = 0.001;  // plate texel edge, metres
-  // Board around the tank's inner outline that the plate covers (what the
-  // tank's walls and water show of the board behind them), metres.
+  // Board around the tank's inner outline that the plate covers, metres:
+  // what the walls show of the board behind them (a 40 mm wall seen from
+  // 30 degrees above the board shows 69 mm behind it).
   double margin_m = 0.08;
   // Colour difference beyond the plate's neighbourhood range, 8-bit levels
   // of the frame's encoding (largest over the channels): seeds of a region,
@@ -78,8 +84,12 @@ struct CleanPlateOptions {
   double illumination_high = 1.35;
   // Weight of a matching observation in the background colour.
   double learn_rate = 0.08;
-  // Foreground regions smaller than this are dropped as noise, pixels.
-  int min_region_px = 16;
+  // Foreground regions smaller than this are dropped as noise, texels.
+  int min_region_texels = 12;
+  // The mask in the image is grown by this: an occluder's edge pixels,
+  // half board and half hand, read as the hand's edge in the video, and
+  // the plate's texels are coarser than the pixels close to the camera.
+  int grow_px = 0;
 
   bool IsValid(std::string* error) const;
 };
@@ -89,6 +99,7 @@ struct CleanPlateSummary {
   int foreground_px = 0;   // mask pixels set
   int known_texels = 0;    // plate texels with a background colour
   int learned_texels = 0;  // texels this frame updated
+  int visited_texels = 0;  // plate texels the window covers
   double gain = 1.0;       // frame / plate brightness
   bool plate_changed = false;
 };
@@ -139,17 +150,18 @@ class CleanPlate {
 
  private:
   void Undistort(const cv::Mat& bgr, const cv::Rect& window, cv::Mat* out);
-  void Classify(const cv::Mat& frame, const cv::Mat& plate_in_window,
-                const cv::Mat& prior_in_window,
-                const cv::Mat& exclude_in_window);
-  void EstimateGains(const cv::Mat& frame, const cv::Mat& plate_in_window,
-                     const cv::Mat& prior_in_window,
-                     const cv::Mat& exclude_in_window);
+  // Per-frame gains from the frame warped onto the plate (`seen`, the
+  // plate's `roi`).
+  void EstimateGains(const cv::Mat& seen, const cv::Rect& roi);
+  // The foreground texels of `roi` (CV_8U 255) from the frame on the plate,
+  // against the learned plate or else the design.
+  void Classify(const cv::Mat& seen, const cv::Rect& roi, cv::Mat* mask);
   // Whether `o` (levels) may be the printed design `p` (levels) under this
   // frame's light.
   bool PriorAllows(const cv::Vec3f& o, const cv::Vec3f& p) const;
-  void Learn(const cv::Mat& frame, const cv::Mat& exclude_in_window,
-             const cv::Matx33d& window_from_plate);
+  // `seen`: the frame on the plate's `roi`, alpha 255 where it may teach,
+  // 128 where it only feeds challengers, 0 where it says nothing.
+  void Learn(const cv::Mat& seen, const cv::Rect& roi);
 
   Camera camera_;
   CleanPlateOptions options_;
@@ -160,11 +172,17 @@ class CleanPlate {
   cv::Mat background_, challenger_;      // CV_32FC3
   cv::Mat background_n_, challenger_n_;  // CV_16U
   cv::Mat plate_bgra_;
-  cv::Mat prior_;  // CV_32FC4: design levels, alpha 255 where valid
+  // The design (levels) and its 3x3 darkest and brightest, CV_8UC4, alpha
+  // 255 where valid.
+  cv::Mat prior_, prior_lo_, prior_hi_;
   std::uint64_t plate_counter_ = 0;
   // Ideal-pinhole pixel -> captured pixel, for cameras with distortion.
   cv::Mat undistort_x_, undistort_y_;
-  cv::Mat foreground_, last_foreground_;
+  cv::Mat foreground_;
+  // Per-frame buffers, kept so that frames do not reallocate them.
+  cv::Mat frame_bgra_, grown_, seen_, mask_, in_window_, near_fg_;
+  cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
+  cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
   cv::Rect window_;
   double gain_ = 1.0;
   cv::Vec3f prior_gain_{1.0f, 1.0f, 1.0f};  // frame / design, per channel

@@ -74,8 +74,8 @@ TEST_F(PipelineTest, DemoWritesVideoFrameTableAndPoses) {
   EXPECT_THAT(r.output, HasSubstr("active: pen in the water (12 frames, ms)"));
   EXPECT_THAT(r.output,
               HasSubstr("idle: water at rest, pen away (4 frames, ms)"));
-  for (const char* c :
-       {"cap", "det", "pose", "drw", "sim", "caustics", "shadow", "total"})
+  for (const char* c : {"cap", "det", "pose", "occ", "drw", "sim", "caustics",
+                        "shadow", "total"})
     EXPECT_THAT(r.output, HasSubstr(c));
   cv::VideoCapture video(dir + "/demo.mp4");
   ASSERT_TRUE(video.isOpened());

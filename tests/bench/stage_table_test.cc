@@ -25,8 +25,8 @@ TEST(StageTableTest, FormatHasEveryStageAndBothStatistics) {
   for (double t : {10.0, 20.0, 30.0}) table.Add(Times(t));
   const std::string text = table.Format("replay");
   EXPECT_THAT(text, HasSubstr("replay (3 frames, ms)"));
-  for (const char* column :
-       {"cap", "det", "pose", "drw", "sim", "caustics", "shadow", "total"})
+  for (const char* column : {"cap", "det", "pose", "occ", "drw", "sim",
+                             "caustics", "shadow", "total"})
     EXPECT_THAT(text, HasSubstr(column));
   EXPECT_THAT(text, HasSubstr("median"));
   EXPECT_THAT(text, HasSubstr("p95"));
@@ -55,7 +55,7 @@ TEST(StageTableTest, AppendCsvWritesHeaderOnceAndTwoRowsPerLabel) {
   std::stringstream text;
   text << in.rdbuf();
   EXPECT_EQ(text.str(),
-            "label,stat,cap,det,pose,drw,sim,caustics,shadow,total,frames\n"
+            "label,stat,cap,det,pose,occ,drw,sim,caustics,shadow,total,frames\n"
             "active,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,5.000,1\n"
             "active,p95,1.000,2.000,0.000,0.000,0.000,0.000,0.000,5.000,1\n"
             "idle,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,5.000,1\n"

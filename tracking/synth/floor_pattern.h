@@ -54,8 +54,11 @@ struct FloorOptions {
   // pattern is low contrast (grout 0.40 against tiles 0.74).
   double tile_m = 0.010;    // tile pitch, grout centre to grout centre
   double grout_m = 0.0008;  // width of the grout lines, metres
-  cv::Vec3f grout_bgr{0.40f, 0.40f, 0.40f};    // neutral grey
-  cv::Vec3f tile_a_bgr{0.60f, 0.74f, 0.80f};   // pale sand (the centre tile)
+  cv::Vec3f grout_bgr{0.40f, 0.40f, 0.40f};  // neutral grey
+  // Pale grey (the centre tile): no warm tint, so that skin over the floor
+  // stands apart from it in colour as well as brightness (the clean plate,
+  // tracking/clean_plate.h; a sand tile read as skin in shade).
+  cv::Vec3f tile_a_bgr{0.742f, 0.742f, 0.742f};
   cv::Vec3f tile_b_bgr{0.80f, 0.793f, 0.62f};  // pale aqua
 
   // Image: a PNG or JPEG file (8-bit sRGB, at most 16384 px each way)

@@ -1,6 +1,8 @@
 #include "app/app_sinks.h"
 
+#include <cstdio>
 #include <opencv2/imgcodecs.hpp>
+#include <string>
 
 #include "app/command.h"
 
@@ -23,6 +25,22 @@ bool PngSink::Consume(const LoopFrame& frame, LoopStop* stop) {
   stop->message = "cannot write " +
                   (options_.label.empty() ? "" : options_.label + " ") + "'" +
                   options_.path + "'";
+  return false;
+}
+
+bool PngFolderSink::Consume(const LoopFrame& frame, LoopStop* stop) {
+  char name[32];
+  std::snprintf(name, sizeof(name), "/%06d.png", frame.index);
+  const std::string path = folder_ + name;
+  // Fastest zlib level: lossless all the same.
+  if (cv::imwrite(path, frame.pipeline->composite(),
+                  {cv::IMWRITE_PNG_COMPRESSION, 1})) {
+    ++written_;
+    return true;
+  }
+  stop->exit_code = kExitRuntime;
+  stop->message = "cannot write '" + path + "' (" + std::to_string(written_) +
+                  " frames written before it)";
   return false;
 }
 

@@ -64,6 +64,21 @@ class PngSink : public FrameSink {
   Options options_;
 };
 
+// Writes every composite frame as a lossless PNG, <folder>/<index>.png
+// (six digits, from 000000), so composites compare pixel by pixel. A failed
+// write stops the loop with exit code 1 and the file's name.
+class PngFolderSink : public FrameSink {
+ public:
+  explicit PngFolderSink(std::string folder) : folder_(std::move(folder)) {}
+  bool WantsComposite(int) const override { return true; }
+  bool Consume(const LoopFrame& frame, LoopStop* stop) override;
+  int written() const { return written_; }
+
+ private:
+  std::string folder_;
+  int written_ = 0;
+};
+
 // The tracked poses of every frame (tracking/pose_csv.h). A failed write
 // stops the loop with exit code 1.
 class PoseCsvSink : public FrameSink {

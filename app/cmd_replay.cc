@@ -2,6 +2,7 @@
 // timestamps, deterministic, writing an H.264 MP4 and the poses.
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
@@ -59,10 +60,21 @@ int RunReplay(ReplayArgs& args) {
   auto pipeline =
       Pipeline::Create(*camera, *rig, args.pipeline.options, &error);
   if (!pipeline) return Fail(kExitRuntime, error);
+  // --out DIR/ (or an existing folder): lossless PNG frames; else a video.
+  const bool out_folder =
+      !args.out.empty() &&
+      (args.out.back() == '/' || std::filesystem::is_directory(args.out));
   VideoSink video;
-  if (!args.out.empty() &&
-      !video.Open(args.out, args.fps, first.bgr.size(), &error))
+  std::unique_ptr<PngFolderSink> frames_out;
+  if (out_folder) {
+    std::string folder = args.out;
+    while (folder.size() > 1 && folder.back() == '/') folder.pop_back();
+    if (!MakeDirectories(folder, &error)) return Fail(kExitBadInput, error);
+    frames_out = std::make_unique<PngFolderSink>(folder);
+  } else if (!args.out.empty() &&
+             !video.Open(args.out, args.fps, first.bgr.size(), &error)) {
     return Fail(kExitBadInput, error);
+  }
   PoseCsvSink poses;
   if (!args.poses.empty() && !poses.Open(args.poses, &error))
     return Fail(kExitBadInput, error);
@@ -90,6 +102,7 @@ int RunReplay(ReplayArgs& args) {
   }
   sinks.push_back(&stats);
   sinks.push_back(&video);
+  if (frames_out) sinks.push_back(frames_out.get());
   if (!args.poses.empty()) sinks.push_back(&poses);
   WindowSink window;
   if (args.pipeline.options.window) sinks.push_back(&window);
@@ -123,7 +136,9 @@ CommandAction SetupReplay(CLI::App* sub) {
   sub->add_option("--camera", args->camera, "Camera calibration YAML")
       ->capture_default_str();
   sub->add_option("--rig", args->rig, "Rig YAML")->capture_default_str();
-  sub->add_option("--out", args->out, "Output video (.mp4: H.264)");
+  sub->add_option("--out", args->out,
+                  "Output video (.mp4: H.264), or a folder (ending in /) for "
+                  "lossless PNG frames");
   sub->add_option("--poses", args->poses, "Write the tracked poses (CSV)");
   sub->add_option("--timing", args->timing,
                   "Write the stage-timing table (CSV)");

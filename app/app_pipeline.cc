@@ -83,7 +83,9 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   }
   if (options.occluders) {
     p->plate_ = std::make_unique<tracking::CleanPlate>(
-        camera, rig.tank.size_x_m, rig.tank.size_y_m, options.clean_plate);
+        camera, rig.tank.size_x_m, rig.tank.size_y_m,
+        std::max(rig.tank.wall_height_m, rig.tank.water_level_m + 0.01),
+        options.clean_plate);
     if (options.board_floor) {
       cv::Mat levels, valid;
       const cv::Point2d o = p->plate_->plate_origin_m();

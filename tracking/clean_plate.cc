@@ -54,8 +54,13 @@ bool CleanPlateOptions::IsValid(std::string* error) const {
 }
 
 CleanPlate::CleanPlate(const Camera& camera, double tank_size_x_m,
-                       double tank_size_y_m, const CleanPlateOptions& options)
-    : camera_(camera), options_(options) {
+                       double tank_size_y_m, double box_top_m,
+                       const CleanPlateOptions& options)
+    : camera_(camera),
+      options_(options),
+      size_x_m_(tank_size_x_m),
+      size_y_m_(tank_size_y_m),
+      box_top_m_(box_top_m) {
   const double sx = tank_size_x_m + 2 * options.margin_m;
   const double sy = tank_size_y_m + 2 * options.margin_m;
   plate_w_ = std::max(1, static_cast<int>(std::ceil(sx / options.texel_m)));
@@ -177,6 +182,29 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
     y0 = std::min(y0, q[1] / q[2]);
     y1 = std::max(y1, q[1] / q[2]);
   }
+  // ... and the board the tank's box hides: its corners seen from the
+  // camera, down to the board plane.
+  const Eigen::Vector3d eye = cam_from_tank.Inverse().translation;
+  double bx0 = 1e18, by0 = 1e18, bx1 = -1e18, by1 = -1e18;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p((c & 1 ? 0.5 : -0.5) * size_x_m_,
+                            (c & 2 ? 0.5 : -0.5) * size_y_m_,
+                            c & 4 ? box_top_m_ : 0.0);
+    if (eye.z() <= p.z() + 1e-3) {  // the camera below the box's top
+      bx0 = by0 = -1e18;
+      bx1 = by1 = 1e18;
+      break;
+    }
+    const Eigen::Vector3d q = eye + (p - eye) * (eye.z() / (eye.z() - p.z()));
+    bx0 = std::min(bx0, q.x());
+    bx1 = std::max(bx1, q.x());
+    by0 = std::min(by0, q.y());
+    by1 = std::max(by1, q.y());
+  }
+  x0 = std::max(x0, (bx0 - origin_m_.x) / s - 0.5);
+  x1 = std::min(x1, (bx1 - origin_m_.x) / s - 0.5);
+  y0 = std::max(y0, (by0 - origin_m_.y) / s - 0.5);
+  y1 = std::min(y1, (by1 - origin_m_.y) / s - 0.5);
   const cv::Rect plate_rect(0, 0, plate_w_, plate_h_);
   auto to_int = [](double v) {
     return static_cast<int>(std::clamp(v, -1e6, 1e6));
@@ -195,44 +223,85 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
 
   cv::Mat frame;
   Undistort(bgr, window, &frame);
-  // The frame on the plate: alpha 255 where it may teach, 128 within 2
-  // pixels of known objects (their blurred edges: judged, not learned), 0 on
-  // them.
-  cv::Mat& frame_bgra = frame_bgra_;
-  cv::cvtColor(frame, frame_bgra, cv::COLOR_BGR2BGRA);
-  const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});
+  // The frame on the plate, with alpha: 255 seen, 0 outside the window
+  // or on a known object.
   cv::Mat exclude_in_window;
-  if (!exclude.empty()) {
-    exclude_in_window = exclude(window);
-    cv::dilate(exclude_in_window, grown_, k5);
-    std::vector<cv::Mat> ch;
-    cv::split(frame_bgra, ch);
-    ch[3].setTo(128, grown_);
-    ch[3].setTo(0, exclude_in_window);
-    cv::merge(ch, frame_bgra);
-  }
-  cv::Mat& seen = seen_;
-  cv::warpPerspective(frame_bgra, seen, window_from_roi, roi.size(),
+  if (!exclude.empty()) exclude_in_window = exclude(window);
+  cv::warpPerspective(frame, frame_bgra_, window_from_roi, roi.size(),
                       cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
                       cv::BORDER_CONSTANT, cv::Scalar::all(0));
-  EstimateGains(seen, roi);
+  if (exclude_in_window.empty()) {
+    valid_window_.create(window.size(), CV_8U);
+    valid_window_.setTo(255);
+  } else {
+    cv::bitwise_not(exclude_in_window, valid_window_);
+  }
+  cv::warpPerspective(valid_window_, valid_, window_from_roi, roi.size(),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
+  cv::Mat& seen = seen_;
+  {
+    const cv::Mat parts[2] = {frame_bgra_, valid_};
+    const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
+    seen.create(roi.size(), CV_8UC4);
+    cv::mixChannels(parts, 2, &seen, 1, from_to, 4);
+  }
+  // Within 2 texels of a known object (its blurred edge) or outside the
+  // view, texels are judged but not learned: alpha 128.
+  const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});
+  {
+    cv::Mat full;
+    cv::extractChannel(seen, full, 3);
+    cv::threshold(full, full, 254, 255, cv::THRESH_BINARY);
+    cv::erode(full, grown_, k5, {-1, -1}, 1, cv::BORDER_REPLICATE);
+    for (int j = 0; j < roi.height; ++j) {
+      cv::Vec4b* o = seen.ptr<cv::Vec4b>(j);
+      const std::uint8_t* g = grown_.ptr(j);
+      for (int i = 0; i < roi.width; ++i)
+        if (!g[i] && o[i][3] >= 100) o[i][3] = 128;
+    }
+  }
+  EstimateGains(bgr, cam_from_tank, exclude);
 
   cv::Mat& mask = mask_;
   Classify(seen, roi, &mask);
-  // Into the window: bilinear, then half coverage; never over known
-  // objects.
-  cv::Mat& in_window = in_window_;
-  cv::warpPerspective(mask, in_window, window_from_roi, window.size(),
-                      cv::INTER_LINEAR, cv::BORDER_CONSTANT,
-                      cv::Scalar::all(0));
-  cv::Mat out = foreground_(window);
-  cv::threshold(in_window, out, 127, 255, cv::THRESH_BINARY);
-  if (options_.grow_px > 0) {
-    const int k = 2 * options_.grow_px + 1;
-    cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_RECT, {k, k}));
+  // Into the window (only around the mask's texels): bilinear, then half
+  // coverage; never over known objects.
+  const cv::Rect found = cv::boundingRect(mask);
+  if (found.area() > 0) {
+    double u0 = 1e18, v0 = 1e18, u1 = -1e18, v1 = -1e18;
+    for (int c = 0; c < 4; ++c) {
+      const cv::Vec3d q =
+          window_from_roi *
+          cv::Vec3d(found.x - 1 + ((c & 1) ? found.width + 2 : 0),
+                    found.y - 1 + ((c & 2) ? found.height + 2 : 0), 1);
+      u0 = std::min(u0, q[0] / q[2]);
+      u1 = std::max(u1, q[0] / q[2]);
+      v0 = std::min(v0, q[1] / q[2]);
+      v1 = std::max(v1, q[1] / q[2]);
+    }
+    const int pad = 2 + options_.grow_px;
+    const cv::Rect sub = cv::Rect(cv::Point(to_int(std::floor(u0)) - pad,
+                                            to_int(std::floor(v0)) - pad),
+                                  cv::Point(to_int(std::ceil(u1)) + pad + 1,
+                                            to_int(std::ceil(v1)) + pad + 1)) &
+                         cv::Rect(0, 0, window.width, window.height);
+    if (sub.area() > 0) {
+      const cv::Matx33d sub_from_roi =
+          cv::Matx33d(1, 0, -sub.x, 0, 1, -sub.y, 0, 0, 1) * window_from_roi;
+      cv::warpPerspective(mask, in_window_, sub_from_roi, sub.size(),
+                          cv::INTER_LINEAR, cv::BORDER_CONSTANT,
+                          cv::Scalar::all(0));
+      cv::Mat out = foreground_(window)(sub);
+      cv::threshold(in_window_, out, 127, 255, cv::THRESH_BINARY);
+      if (options_.grow_px > 0) {
+        const int k = 2 * options_.grow_px + 1;
+        cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_RECT, {k, k}));
+      }
+      if (!exclude_in_window.empty()) out.setTo(0, exclude_in_window(sub));
+      summary_.foreground_px = cv::countNonZero(out);
+    }
   }
-  if (!exclude_in_window.empty()) out.setTo(0, exclude_in_window);
-  summary_.foreground_px = cv::countNonZero(out);
 
   // Texels at the mask and 2 around it (an occluder's blurred edge mixes
   // it with the board) only feed the challengers.
@@ -251,32 +320,48 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   return summary_;
 }
 
-void CleanPlate::EstimateGains(const cv::Mat& seen, const cv::Rect& roi) {
+void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
+                               const cv::Mat& exclude) {
   // The plate's gain: the median ratio of frame to plate brightness over
   // known, bright enough board texels (tag black carries no exposure
-  // information); the design's: per channel over its paper. Medians ignore
-  // an occluder over less than half the board.
+  // information); the design's: per channel over its paper. Sampled over
+  // the whole plate (every seventh texel each way), where the camera sees it,
+  // away from known objects and the last frame's occluders, so an occluder
+  // over the tank does not move the medians.
   std::vector<float> ratios, prior_ratios[3];
-  ratios.reserve(static_cast<size_t>(roi.area() / 4 + 1));
-  // Every third texel each way: thousands of samples.
-  for (int j = 0; j < roi.height; j += 3) {
-    const cv::Vec4b* o = seen.ptr<cv::Vec4b>(j);
-    const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(roi.y + j) + roi.x;
-    const cv::Vec4b* q =
-        prior_.empty() ? nullptr : prior_.ptr<cv::Vec4b>(roi.y + j) + roi.x;
-    for (int i = 0; i < roi.width; i += 3) {
-      if (o[i][3] != 255) continue;
-      if (p[i][3] == 255) {
-        const int sp = p[i][0] + p[i][1] + p[i][2];
-        if (sp >= 90)
-          ratios.push_back(static_cast<float>(o[i][0] + o[i][1] + o[i][2]) /
-                           static_cast<float>(sp));
-      }
-      if (q && q[i][3] == 255 && q[i][0] > 150 && q[i][1] > 150 &&
-          q[i][2] > 150) {
-        for (int c = 0; c < 3; ++c)
-          prior_ratios[c].push_back(static_cast<float>(o[i][c]) / q[i][c]);
-      }
+  const double s = options_.texel_m;
+  for (int j = 3; j < plate_h_; j += 7) {
+    const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(j);
+    const cv::Vec4b* q = prior_.empty() ? nullptr : prior_.ptr<cv::Vec4b>(j);
+    const std::uint8_t* last = plate_foreground_.ptr(j);
+    for (int i = 3; i < plate_w_; i += 7) {
+      if (last[i]) continue;
+      const bool plate_ok = p[i][3] == 255 && p[i][0] + p[i][1] + p[i][2] >= 90;
+      const bool prior_ok = q && q[i][3] == 255 && q[i][0] > 150 &&
+                            q[i][1] > 150 && q[i][2] > 150;
+      if (!plate_ok && !prior_ok) continue;
+      const Eigen::Vector3d c =
+          cam_from_tank * Eigen::Vector3d(origin_m_.x + s * (i + 0.5),
+                                          origin_m_.y + s * (j + 0.5), 0.0);
+      if (c.z() < 1e-3) continue;
+      const Eigen::Vector2d ideal(camera_.fx * c.x() / c.z() + camera_.cx,
+                                  camera_.fy * c.y() / c.z() + camera_.cy);
+      const Eigen::Vector2d raw = camera_.Project(c);
+      const int u = static_cast<int>(std::lround(raw.x()));
+      const int v = static_cast<int>(std::lround(raw.y()));
+      const int ui = static_cast<int>(std::lround(ideal.x()));
+      const int vi = static_cast<int>(std::lround(ideal.y()));
+      if (u < 0 || v < 0 || u >= bgr.cols || v >= bgr.rows) continue;
+      if (!exclude.empty() && ui >= 0 && vi >= 0 && ui < exclude.cols &&
+          vi < exclude.rows && exclude.at<std::uint8_t>(vi, ui))
+        continue;
+      const cv::Vec3b o = bgr.at<cv::Vec3b>(v, u);
+      if (plate_ok)
+        ratios.push_back(static_cast<float>(o[0] + o[1] + o[2]) /
+                         static_cast<float>(p[i][0] + p[i][1] + p[i][2]));
+      if (prior_ok)
+        for (int k = 0; k < 3; ++k)
+          prior_ratios[k].push_back(static_cast<float>(o[k]) / q[i][k]);
     }
   }
   auto median = [](std::vector<float>* v) {
@@ -286,7 +371,7 @@ void CleanPlate::EstimateGains(const cv::Mat& seen, const cv::Rect& roi) {
   };
   if (ratios.size() >= 100) gain_ = median(&ratios);
   if (prior_ratios[0].size() >= 100)
-    for (int c = 0; c < 3; ++c) prior_gain_[c] = median(&prior_ratios[c]);
+    for (int k = 0; k < 3; ++k) prior_gain_[k] = median(&prior_ratios[k]);
 }
 
 namespace {
@@ -384,6 +469,11 @@ void CleanPlate::Classify(const cv::Mat& seen, const cv::Rect& roi,
         continue;
       }
       const float f[3] = {float(o[i][0]), float(o[i][1]), float(o[i][2])};
+      // Within the threshold of both ends: on the segment's near side.
+      if (std::abs(f[0] - lo[0]) <= t_low && std::abs(f[1] - lo[1]) <= t_low &&
+          std::abs(f[2] - lo[2]) <= t_low && std::abs(f[0] - hi[0]) <= t_low &&
+          std::abs(f[1] - hi[1]) <= t_low && std::abs(f[2] - hi[2]) <= t_low)
+        continue;
       // Distance from the segment lo-hi (the largest channel).
       const float d0 = hi[0] - lo[0], d1 = hi[1] - lo[1], d2 = hi[2] - lo[2];
       const float dd = d0 * d0 + d1 * d1 + d2 * d2;

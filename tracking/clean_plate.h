@@ -99,7 +99,7 @@ struct CleanPlateSummary {
   int foreground_px = 0;   // mask pixels set
   int known_texels = 0;    // plate texels with a background colour
   int learned_texels = 0;  // texels this frame updated
-  int visited_texels = 0;  // plate texels the window covers
+  int visited_texels = 0;  // plate texels the tank's box hides
   double gain = 1.0;       // frame / plate brightness
   bool plate_changed = false;
 };
@@ -107,8 +107,11 @@ struct CleanPlateSummary {
 class CleanPlate {
  public:
   // `camera`: the tracker's camera (its distortion is undone for the mask);
-  // the tank's inner size, metres.
+  // the tank's box: inner size and the height of what is drawn over the
+  // board (walls, water), metres. Only the board the box hides is
+  // processed.
   CleanPlate(const Camera& camera, double tank_size_x_m, double tank_size_y_m,
+             double box_top_m,
              const CleanPlateOptions& options = CleanPlateOptions());
 
   // One frame: `bgr` (CV_8UC3, the camera's size, as captured), the board's
@@ -150,9 +153,9 @@ class CleanPlate {
 
  private:
   void Undistort(const cv::Mat& bgr, const cv::Rect& window, cv::Mat* out);
-  // Per-frame gains from the frame warped onto the plate (`seen`, the
-  // plate's `roi`).
-  void EstimateGains(const cv::Mat& seen, const cv::Rect& roi);
+  // Per-frame gains from the frame against the plate and the design.
+  void EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
+                     const cv::Mat& exclude);
   // The foreground texels of `roi` (CV_8U 255) from the frame on the plate,
   // against the learned plate or else the design.
   void Classify(const cv::Mat& seen, const cv::Rect& roi, cv::Mat* mask);
@@ -165,6 +168,7 @@ class CleanPlate {
 
   Camera camera_;
   CleanPlateOptions options_;
+  double size_x_m_ = 0, size_y_m_ = 0, box_top_m_ = 0;
   cv::Point2d origin_m_;
   int plate_w_ = 0, plate_h_ = 0;
   // Per texel: background and challenger colours (gain-relative, 8-bit
@@ -180,7 +184,8 @@ class CleanPlate {
   cv::Mat undistort_x_, undistort_y_;
   cv::Mat foreground_;
   // Per-frame buffers, kept so that frames do not reallocate them.
-  cv::Mat frame_bgra_, grown_, seen_, mask_, in_window_, near_fg_;
+  cv::Mat frame_bgra_, valid_window_, valid_, grown_, seen_, mask_, in_window_,
+      near_fg_;
   cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
   cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
   cv::Rect window_;

@@ -61,7 +61,8 @@ const Frames& GetFrames() {
 
 void BM_CleanPlateProcess(benchmark::State& state) {
   const Frames& f = GetFrames();
-  CleanPlate plate(f.camera, f.rig.tank.size_x_m, f.rig.tank.size_y_m);
+  CleanPlate plate(f.camera, f.rig.tank.size_x_m, f.rig.tank.size_y_m,
+                   f.rig.tank.wall_height_m);
   cv::Mat levels, valid;
   const cv::Point2d o = plate.plate_origin_m();
   synth::BoardDesignLevels(f.rig, synth::FloorPattern(), {o.x, o.y},

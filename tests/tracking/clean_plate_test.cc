@@ -46,17 +46,39 @@ void SetPrior(const Rig& rig, CleanPlate* plate) {
   ASSERT_TRUE(plate->SetBoardPrior(levels, valid));
 }
 
+// Pixels of the tank's box (floor to the wall tops) in the ideal image:
+// where the renderer draws, so where the mask matters.
+cv::Mat BoxSilhouette(const Camera& camera, const Rig& rig,
+                      const Pose& cam_from_tank) {
+  std::vector<cv::Point> pts;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d p =
+        cam_from_tank *
+        Eigen::Vector3d((c & 1 ? 0.5 : -0.5) * rig.tank.size_x_m,
+                        (c & 2 ? 0.5 : -0.5) * rig.tank.size_y_m,
+                        c & 4 ? rig.tank.wall_height_m : 0.0);
+    pts.emplace_back(cvRound(camera.fx * p.x() / p.z() + camera.cx),
+                     cvRound(camera.fy * p.y() / p.z() + camera.cy));
+  }
+  std::vector<cv::Point> hull;
+  cv::convexHull(pts, hull);
+  cv::Mat mask(camera.height, camera.width, CV_8U, cv::Scalar(0));
+  cv::fillConvexPoly(mask, hull, cv::Scalar(255));
+  return mask;
+}
+
 struct MaskScore {
   long long inter = 0, uni = 0, truth = 0, missed = 0, false_px = 0;
   double IoU() const { return uni > 0 ? double(inter) / uni : 1.0; }
 };
 
-// Scores `found` against the hands' coverage inside `window`, leaving out the
-// pen's pixels (`exclude`: known geometry, which the renderer handles).
+// Scores `found` against the hands' coverage inside `region`, leaving out
+// the pen's pixels (`exclude`: known geometry, which the renderer handles).
 void Score(const cv::Mat& found, const cv::Mat& hands, const cv::Mat& exclude,
-           const cv::Rect& window, MaskScore* s) {
-  for (int y = window.y; y < window.y + window.height; ++y) {
-    for (int x = window.x; x < window.x + window.width; ++x) {
+           const cv::Mat& region, MaskScore* s) {
+  for (int y = 0; y < region.rows; ++y) {
+    for (int x = 0; x < region.cols; ++x) {
+      if (!region.at<std::uint8_t>(y, x)) continue;
       if (!exclude.empty() && exclude.at<std::uint8_t>(y, x)) continue;
       const bool t = hands.at<float>(y, x) >= 0.5f;
       const bool f = found.at<std::uint8_t>(y, x) != 0;
@@ -89,7 +111,8 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
   const synth::SceneRenderer renderer(camera, rig);
   const auto specs = test_data::SynthSpecs(camera, rig, "hands", 80, 40, 7);
   ASSERT_EQ(specs.size(), 80u);
-  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
+                   rig.tank.wall_height_m);
   SetPrior(rig, &plate);
   MaskScore score;
   int scored_frames = 0;
@@ -104,7 +127,8 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
     if (f.index < 2) continue;
     cv::Mat hands, pen;
     renderer.OccluderCoverage(f.scene, &hands, &pen);
-    Score(plate.foreground(), hands, exclude, window, &score);
+    Score(plate.foreground(), hands, exclude,
+          BoxSilhouette(camera, rig, f.scene.cam_from_tank), &score);
     ++scored_frames;
   }
   ASSERT_GT(score.truth, 20000) << "the sequence must put hands over the tank";
@@ -141,7 +165,8 @@ TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
   const synth::SceneRenderer renderer(camera, rig);
   const Pose cam_from_tank = BoardView();
   const cv::Rect window = Window(camera, rig, cam_from_tank);
-  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
+                   rig.tank.wall_height_m);
   for (int i = 0; i < 10; ++i)
     plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, i + 1),
                   cam_from_tank, cv::Mat(), window);
@@ -182,7 +207,8 @@ TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {
   const cv::Rect window = Window(camera, rig, cam_from_tank);
   const cv::Rect patch(window.x + window.width / 3,
                        window.y + window.height / 3, 40, 30);
-  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
+                   rig.tank.wall_height_m);
   // A hand lies there for the first 5 frames: it is learned as board.
   for (int i = 0; i < 5; ++i) {
     cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
@@ -213,7 +239,8 @@ TEST(CleanPlateTest, ExcludedPixelsAreNeitherReportedNorLearned) {
                        window.y + window.height / 2, 30, 30);
   cv::Mat exclude(camera.height, camera.width, CV_8U, cv::Scalar(0));
   exclude(patch).setTo(255);
-  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m);
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
+                   rig.tank.wall_height_m);
   for (int i = 0; i < 8; ++i) {
     cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
     frame(patch).setTo(cv::Scalar(20, 20, 20));  // the pen, always there

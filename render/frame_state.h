@@ -29,6 +29,7 @@ enum TextureUnit : int {
   kUnitFloorReturn = 9,
   kUnitOccluders = 10,
   kUnitPlate = 11,
+  kUnitMirror = 12,
 };
 
 // The height texture's mapping (HeightTexturePass).

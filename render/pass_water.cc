@@ -31,6 +31,8 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
   glUniform1i(p.Uniform("u_occluders"), kUnitOccluders);
   glUniform1i(p.Uniform("u_plate"), kUnitPlate);
+  glUniform1i(p.Uniform("u_mirror"), kUnitMirror);
+  glUniform1f(p.Uniform("u_mirror_depth"), 0.03f);
   s->pen_on = p.Uniform("u_pen_on");
   s->pen_tip = p.Uniform("u_pen_tip");
   s->pen_axis = p.Uniform("u_pen_axis");

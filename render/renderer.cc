@@ -12,6 +12,7 @@
 #include "render/meshes.h"
 #include "render/pass_caustics.h"
 #include "render/pass_height.h"
+#include "render/pass_mirror.h"
 #include "render/pass_obstacles.h"
 #include "render/pass_present.h"
 #include "render/pass_real.h"
@@ -46,6 +47,7 @@ bool RendererOptions::IsValid(std::string* error) const {
   if (caustics_map_size < 8 || caustics_map_size > 4096)
     return fail("caustics_map_size must be in [8, 4096]");
   if (caustics_threads < 1) return fail("caustics_threads must be >= 1");
+  if (!(reflection_fade_m > 0)) return fail("reflection_fade_m must be > 0");
   if (shadow_move_threshold_m < 0 || shadow_turn_threshold_rad < 0)
     return fail("shadow thresholds must be >= 0");
   if (!optics.IsValid(error)) return false;
@@ -70,6 +72,7 @@ struct Renderer::Impl {
   internal::WallsPass walls;
   internal::PresentPass present;
   internal::RealObjectsPass real;
+  internal::MirrorPass mirror;
   internal::RealObjectsState real_state;
   PassTimer timer;
 
@@ -110,7 +113,8 @@ bool Renderer::Impl::Init(std::string* error) {
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
       !walls.Create(walls_options, error) || !present.Create(error) ||
-      !real.Create(srgb, error)) {
+      !real.Create(srgb, error) ||
+      !mirror.Create({o.obstacle_albedo, o.reflection_fade_m}, error)) {
     return false;
   }
   solids.Create();
@@ -141,7 +145,8 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
   if (!target.Allocate(k.width, k.height, error)) return false;
   const bool ok = obstacles.AllocateOutput(k.width, k.height) &&
                   video.AllocateOutput(k.width, k.height) &&
-                  real.AllocateOutput(k.width, k.height);
+                  real.AllocateOutput(k.width, k.height) &&
+                  mirror.AllocateOutput(k.width, k.height);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (!ok) *error = "video framebuffers incomplete";
   return ok;
@@ -247,6 +252,7 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
+  m.mirror.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video(), m.real_state);
   if (fx.walls) m.walls.Draw(f, m.walls_mesh, m.water.return_tint());
   m.timings.main_ms = m.timer.End(PassTimer::kMain);

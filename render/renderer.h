@@ -62,6 +62,9 @@ struct RendererOptions {
   // pixels outside the water are the video's own.
   Transfer video_transfer = Transfer::kSrgb;
   float reflection_distance_m = 0.3f;  // distance to the reflected scene
+  // The mirrored obstacles and pen fade with height above the water, with
+  // this e-folding height (Nelson & Kolsch's falloff; pass_mirror.h).
+  float reflection_fade_m = 0.1f;
   // The real pen's shadow is in the video already (the real lamp casts it on
   // the real board), so by default only the virtual obstacles cast shadows:
   // re-casting the pen doubled its shadow (`ripple bench render`, FLIP with

@@ -46,6 +46,8 @@ uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
+uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
+uniform float u_mirror_depth;    // typical height of what it mirrors, metres
 
 #ifdef REAL_OBJECTS
 uniform float u_pen_on;
@@ -200,7 +202,14 @@ void main() {
   vec3 r = reflect(v, n);
   float fresnel = FresnelExact(dot(-v, n), u_ior);
 #ifdef REFLECTION
-  color = mix(color, EnvLookup(p, r), fresnel);
+  // The environment, and over it the mirrored obstacles and pen
+  // (pass_mirror.h, premultiplied), displaced by the surface's slope: a tilt
+  // of the normal turns the reflected ray by twice as much.
+  vec3 env = EnvLookup(p, r);
+  vec4 mirror = textureLod(
+      u_mirror, VideoUv(p + vec3(2.0 * u_mirror_depth * n.xy, 0.0)), 0.0);
+  env = env * (1.0 - mirror.a) + mirror.rgb;
+  color = mix(color, env, fresnel);
 #else
   color *= 1.0 - fresnel;
 #endif

@@ -298,5 +298,126 @@ TEST(SynthSequenceTest, SegmentsAreSmoothWithCutsAndThePenDips) {
   EXPECT_FALSE(MakeSequence(cam, *rig, opt, &frames, &error));
 }
 
+// The pen standing upright with its tip `tip_height_m` above the tank centre.
+Pose UprightPen(const Rig& rig, double tip_height_m) {
+  return Pose(Eigen::Quaterniond::Identity(),
+              Vector3d(0, 0, tip_height_m) - rig.pen->tip_in_pen);
+}
+
+Vector3d LightAt(double azimuth_deg, double elevation_deg) {
+  const double a = azimuth_deg * M_PI / 180, e = elevation_deg * M_PI / 180;
+  return {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+}
+
+TEST(SynthShadowTest, PenShadowDarkensTheBoardToTheAmbientShare) {
+  const Camera cam = tracking::MakeIdealCamera(640, 480, 60);
+  std::string error;
+  auto rig = tracking::LoadRig(
+      std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
+  ASSERT_TRUE(rig) << error;
+  ASSERT_TRUE(rig->pen);
+  SceneRenderer renderer(cam, *rig);
+  SceneState scene;
+  const Pose cam_from_tank =
+      tracking::LookAt({0.0, -0.15, 0.35}, {-0.03, -0.02, 0}, {0, 0, 1})
+          .Inverse();
+  scene.cam_from_tank = cam_from_tank;
+  scene.tank_from_pen = UprightPen(*rig, 0.02);
+  const cv::Mat unlit = renderer.RenderLinear(scene);
+  scene.light_in_tank = LightAt(30, 50);
+  scene.ambient_share = 0.4;
+  const cv::Mat lit = renderer.RenderLinear(scene);
+  cv::Mat hands, pen;
+  renderer.OccluderCoverage(scene, &hands, &pen);
+  // Brightness with the light over brightness without it at a board point.
+  auto ratio_at = [&](const Vector2d& p_in_tank) {
+    const Vector2d px = cam.Project(
+        Vector3d(cam_from_tank * Vector3d(p_in_tank.x(), p_in_tank.y(), 0)));
+    const int u = int(std::lround(px.x())), v = int(std::lround(px.y()));
+    EXPECT_TRUE(u >= 0 && v >= 0 && u < cam.width && v < cam.height);
+    EXPECT_LT(pen.at<float>(v, u), 1e-6f) << "the pen hides the board there";
+    return lit.at<cv::Vec3f>(v, u)[1] / unlit.at<cv::Vec3f>(v, u)[1];
+  };
+  // The upright shaft's axis casts the line from the tip's shadow away from
+  // the light; its half-way point (80 mm up) lands 80 mm cot(50 deg) away.
+  const Vector2d away = -LightAt(30, 50).head<2>().normalized();
+  const double cot = 1 / std::tan(50 * M_PI / 180);
+  const Vector2d mid = away * 0.08 * cot;
+  EXPECT_NEAR(ratio_at(mid), 0.4, 1e-3);
+  // The cube's shadow, from its centre 160 mm up.
+  EXPECT_NEAR(ratio_at(away * 0.16 * cot), 0.4, 1e-3);
+  // Far from the shadow, and on the light's side of the tip: untouched.
+  EXPECT_EQ(ratio_at(Vector2d(0.06, -0.035)), 1.0f);
+  EXPECT_EQ(ratio_at(-away * 0.03), 1.0f);
+  // Across the shaft's shadow: full light, a soft edge near the radius
+  // (partial values, not a step), the umbra, and back.
+  const Vector2d side(-away.y(), away.x());
+  const double r = rig->pen->shaft_radius_m;
+  EXPECT_NEAR(ratio_at(mid + side * (r + 0.004)), 1.0, 1e-6);
+  EXPECT_NEAR(ratio_at(mid - side * (r + 0.004)), 1.0, 1e-6);
+  EXPECT_NEAR(ratio_at(mid + side * (r - 0.003)), 0.4, 1e-3);
+  int partial = 0;
+  for (double o = r - 0.002; o <= r + 0.002; o += 0.0002) {
+    const double q = ratio_at(mid + side * o);
+    partial += q > 0.42 && q < 0.98;
+  }
+  EXPECT_GE(partial, 4) << "the shadow's edge is a step";
+  EXPECT_NEAR(ratio_at(mid + side * r), 0.7, 0.15);
+  // No shadow when all the light is ambient, nor under flat lighting.
+  scene.ambient_share = 1.0;
+  const cv::Mat all_ambient = renderer.RenderLinear(scene);
+  const Vector2d px =
+      cam.Project(Vector3d(cam_from_tank * Vector3d(mid.x(), mid.y(), 0)));
+  EXPECT_EQ(
+      all_ambient.at<cv::Vec3f>(int(std::lround(px.y())),
+                                int(std::lround(px.x()))),
+      unlit.at<cv::Vec3f>(int(std::lround(px.y())), int(std::lround(px.x()))));
+  scene.ambient_share = 0.4;
+  scene.flat_lighting = true;
+  SceneState flat = scene;
+  flat.light_in_tank.reset();
+  EXPECT_EQ(cv::norm(renderer.RenderLinear(scene), renderer.RenderLinear(flat),
+                     cv::NORM_INF),
+            0.0);
+}
+
+TEST(SynthSequenceTest, DirectionalLightIsDrawnPerSegmentApart) {
+  const Camera cam = tracking::MakeIdealCamera(640, 480, 60);
+  std::string error;
+  auto rig = tracking::LoadRig(
+      std::string(RIPPLE_SOURCE_DIR) + "/data/rig/default.yml", &error);
+  ASSERT_TRUE(rig) << error;
+  SequenceOptions opt;
+  opt.preset = "hands";
+  opt.frames = 120;
+  opt.segment_frames = 30;
+  std::vector<FrameSpec> plain, lit;
+  ASSERT_TRUE(MakeSequence(cam, *rig, opt, &plain, &error)) << error;
+  opt.directional_light = true;
+  ASSERT_TRUE(MakeSequence(cam, *rig, opt, &lit, &error)) << error;
+  ASSERT_EQ(plain.size(), lit.size());
+  for (size_t i = 0; i < lit.size(); ++i) {
+    EXPECT_FALSE(plain[i].scene.light_in_tank);
+    ASSERT_TRUE(lit[i].scene.light_in_tank);
+    // The rest of the sequence is drawn as without the light.
+    EXPECT_EQ(tracking::TranslationDistance(plain[i].scene.cam_from_tank,
+                                            lit[i].scene.cam_from_tank),
+              0.0);
+    EXPECT_EQ(plain[i].noise_seed, lit[i].noise_seed);
+    const Vector3d& l = *lit[i].scene.light_in_tank;
+    EXPECT_NEAR(l.norm(), 1.0, 1e-12);
+    const double elev = std::asin(l.z()) * 180 / M_PI;
+    EXPECT_GE(elev, 30 - 1e-9);
+    EXPECT_LE(elev, 75 + 1e-9);
+    EXPECT_GE(lit[i].scene.ambient_share, 0.25);
+    EXPECT_LE(lit[i].scene.ambient_share, 0.5);
+    if (i % 30 != 0) {
+      EXPECT_EQ(l, *lit[i - 1].scene.light_in_tank) << "fixed in a segment";
+    }
+  }
+  EXPECT_GT((*lit[0].scene.light_in_tank - *lit[30].scene.light_in_tank).norm(),
+            1e-3);
+}
+
 }  // namespace
 }  // namespace ripple::synth

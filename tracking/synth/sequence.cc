@@ -1,5 +1,6 @@
 // Scripted motion and imaging presets for synthetic sequences.
 #include <cmath>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -191,6 +192,11 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
   auto hand01 = [&]() {
     return std::uniform_real_distribution<double>(0, 1)(hand_rng);
   };
+  // The light's own draws, likewise.
+  std::mt19937_64 light_rng(options.seed ^ 0x6c69676874ull);
+  auto light01 = [&]() {
+    return std::uniform_real_distribution<double>(0, 1)(light_rng);
+  };
   auto uni = [&](Range r) {
     return std::uniform_real_distribution<double>(r.lo, r.hi)(rng);
   };
@@ -241,6 +247,17 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
     const double sweep_y = 0.6 * hy * (2 * hand01() - 1);
     const double sweep_rot = (hand01() - 0.5) * 60 * kDeg;
     const double sweep_dir = hand01() < 0.5 ? -1.0 : 1.0;
+    // A fixed room light for the segment.
+    std::optional<Vector3d> light;
+    double ambient_share = 0;
+    if (options.directional_light) {
+      const double light_az = 2 * M_PI * light01();
+      const double light_elev = (30 + 45 * light01()) * kDeg;
+      light = Vector3d(std::cos(light_elev) * std::cos(light_az),
+                       std::cos(light_elev) * std::sin(light_az),
+                       std::sin(light_elev));
+      ambient_share = 0.25 + 0.25 * light01();
+    }
 
     for (int i = 0; i < n; ++i) {
       const double t = n > 1 ? double(i) / (n - 1) : 0.0, s = Smooth(t);
@@ -261,6 +278,10 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
           tank_from_cam.rotation *
           Eigen::Quaterniond(Eigen::AngleAxisd(roll, Vector3d::UnitZ()));
       f.scene.cam_from_tank = tank_from_cam.Inverse();
+      if (light) {
+        f.scene.light_in_tank = light;
+        f.scene.ambient_share = ambient_share;
+      }
       // Pen.
       if (rig.pen) {
         Vector3d tip;

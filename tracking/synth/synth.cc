@@ -97,6 +97,120 @@ bool PointInPolygon(const std::vector<Vector2d>& poly, const Vector2d& p) {
   return inside;
 }
 
+// Share of a disc covered by a half-plane whose edge lies `x` disc radii
+// from the disc's centre (x > 0: the centre outside the half-plane).
+double DiscCovered(double x) {
+  if (x <= -1) return 1.0;
+  if (x >= 1) return 0.0;
+  return (std::acos(x) - x * std::sqrt(1 - x * x)) / M_PI;
+}
+
+// Distance from p to a counter-clockwise convex polygon, negative inside.
+double SignedDistance(const std::vector<Vector2d>& poly, const Vector2d& p) {
+  double d = 1e30;
+  bool inside = poly.size() >= 3;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Vector2d e = poly[i] - poly[j];
+    const double u = std::clamp(
+        (p - poly[j]).dot(e) / std::max(e.squaredNorm(), 1e-30), 0.0, 1.0);
+    d = std::min(d, (p - (poly[j] + u * e)).norm());
+    if (e.x() * (p - poly[j]).y() - e.y() * (p - poly[j]).x() < 0)
+      inside = false;
+  }
+  return inside ? -d : d;
+}
+
+// The pen's shadow on the board plane z = 0 under a distant light of angular
+// radius `radius_rad`. Works in the light's view: points are projected along
+// the light onto a plane perpendicular to it, where the shaft (the cylinder
+// the renderer draws: flat ends at the tip and `shaft_length_m` up the axis)
+// is the convex hull of its two end circles and the cube the hull of its
+// corners. A board point sees the light's disc as a disc of radius
+// s tan(radius) at an occluder s metres up the ray (plus the pixel's
+// footprint); the hidden share is the part of that disc behind the
+// outline's nearest edge (taken as straight).
+class PenShadow {
+ public:
+  PenShadow(const tracking::PenSpec& pen, const Pose& tank_from_pen,
+            const Vector3d& light_in_tank, double radius_rad)
+      : light_(light_in_tank.normalized()),
+        tan_radius_(std::tan(std::max(0.0, radius_rad))) {
+    e1_ = light_.unitOrthogonal();
+    e2_ = light_.cross(e1_);
+    const Vector3d tip = pen.tip_in_pen;
+    const Vector3d axis = (-tip).normalized();  // tip -> cube
+    const Vector3d a = tank_from_pen * tip;
+    const Vector3d b = tank_from_pen * (tip + axis * pen.shaft_length_m);
+    axis_a_ = View(a);
+    axis_b_ = View(b);
+    depth_a_ = light_.dot(a);
+    depth_b_ = light_.dot(b);
+    const Vector3d axis_in_tank = tank_from_pen.R() * axis;
+    const Vector3d u = axis_in_tank.unitOrthogonal();
+    const Vector3d w = axis_in_tank.cross(u);
+    std::vector<Vector2d> rims;
+    constexpr int kAround = 24;
+    for (int k = 0; k < kAround; ++k) {
+      const double t = 2 * M_PI * k / kAround;
+      const Vector3d off =
+          pen.shaft_radius_m * (std::cos(t) * u + std::sin(t) * w);
+      rims.push_back(View(a + off));
+      rims.push_back(View(b + off));
+    }
+    shaft_ = ConvexHull(std::move(rims));
+    const double h = 0.5 * pen.cube_edge_m;
+    std::vector<Vector2d> corners;
+    for (int i = 0; i < 8; ++i) {
+      const Vector3d c =
+          tank_from_pen *
+          Vector3d(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
+      corners.push_back(View(c));
+    }
+    cube_ = ConvexHull(std::move(corners));
+    cube_depth_ = light_.dot(tank_from_pen.translation);
+    top_depth_ = std::max({depth_a_, depth_b_, cube_depth_ + 2 * h});
+    box_ = Eigen::AlignedBox2d(shaft_.front());
+    for (const Vector2d& c : shaft_) box_.extend(c);
+    for (const Vector2d& c : cube_) box_.extend(c);
+  }
+
+  // Share of the light's disc hidden from the board point `p_in_tank` (z =
+  // 0), 0..1; `footprint_m`: radius of the pixel's footprint on the board.
+  double Hidden(const Vector2d& p_in_tank, double footprint_m) const {
+    const Vector3d p(p_in_tank.x(), p_in_tank.y(), 0.0);
+    const Vector2d q = View(p);
+    const double depth = light_.dot(p);
+    const double reach =
+        std::max(0.0, top_depth_ - depth) * tan_radius_ + footprint_m;
+    if (q.x() < box_.min().x() - reach || q.x() > box_.max().x() + reach ||
+        q.y() < box_.min().y() - reach || q.y() > box_.max().y() + reach)
+      return 0.0;
+    // Shaft: the occluder's height up the ray at the axis point nearest q.
+    const Vector2d ab = axis_b_ - axis_a_;
+    const double len2 = ab.squaredNorm();
+    const double t =
+        len2 > 0 ? std::clamp((q - axis_a_).dot(ab) / len2, 0.0, 1.0) : 0.0;
+    const double s_shaft =
+        std::max(0.0, depth_a_ + t * (depth_b_ - depth_a_) - depth);
+    const double hidden_shaft = DiscCovered(
+        SignedDistance(shaft_, q) / (s_shaft * tan_radius_ + footprint_m));
+    const double s_cube = std::max(0.0, cube_depth_ - depth);
+    const double hidden_cube = DiscCovered(
+        SignedDistance(cube_, q) / (s_cube * tan_radius_ + footprint_m));
+    return std::max(hidden_shaft, hidden_cube);
+  }
+
+ private:
+  Vector2d View(const Vector3d& x) const { return {e1_.dot(x), e2_.dot(x)}; }
+
+  Vector3d light_, e1_, e2_;
+  double tan_radius_ = 0;
+  Vector2d axis_a_, axis_b_;
+  double depth_a_ = 0, depth_b_ = 0, cube_depth_ = 0, top_depth_ = 0;
+  std::vector<Vector2d> shaft_, cube_;  // counter-clockwise
+  Eigen::AlignedBox2d box_;             // of both
+};
+
 }  // namespace
 
 // Per-camera and per-rig precomputation shared by all frames.
@@ -336,7 +450,9 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     const tracking::PenSpec& pen = *rig_.pen;
     const Pose cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
     const Eigen::Matrix3d tank_r = scene.cam_from_tank.R();
-    const Vector3d light_in_cam = tank_r * kLightInTank;
+    const Vector3d light_in_cam =
+        tank_r * (scene.light_in_tank ? scene.light_in_tank->normalized()
+                                      : kLightInTank);
     std::vector<DrawItem> pen_items;
     // Shaft: the convex hull of rings along the cylinder.
     {
@@ -424,6 +540,15 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     it.polygon_bgr = o.bgr;
     items.push_back(it);
   }
+
+  // The pen's cast shadow on the board's layers.
+  std::optional<PenShadow> shadow;
+  if (scene.light_in_tank && scene.tank_from_pen && rig_.pen &&
+      !scene.flat_lighting && scene.ambient_share < 1.0 &&
+      scene.light_in_tank->z() > 0)
+    shadow.emplace(*rig_.pen, *scene.tank_from_pen, *scene.light_in_tank,
+                   scene.light_radius_rad);
+  const double direct_share = 1.0 - std::clamp(scene.ambient_share, 0.0, 1.0);
 
   // Paint.
   std::vector<Vector2d> plane_pts(impl.corner_rays.size());
@@ -526,6 +651,18 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
                 const Vector3d in_tank =
                     tank_from_plane * Vector3d(c.x(), c.y(), 0);
                 shade = BoardShade(in_tank.x(), in_tank.y());
+                if (shadow) {
+                  // Footprint: the radius of a disc of the pixel's area on
+                  // the plane.
+                  const double plane_area =
+                      0.5 *
+                      std::abs(
+                          (quad[2] - quad[0]).x() * (quad[3] - quad[1]).y() -
+                          (quad[2] - quad[0]).y() * (quad[3] - quad[1]).x());
+                  const double hidden = shadow->Hidden(
+                      in_tank.head<2>(), std::sqrt(plane_area / M_PI));
+                  shade *= static_cast<float>(1.0 - direct_share * hidden);
+                }
               }
               row[u] = row[u] * (1.0f - alpha) + value * shade;
             }

@@ -36,9 +36,30 @@ struct SceneState {
   Pose cam_from_tank;
   std::optional<Pose> tank_from_pen;  // nullopt: no pen in the scene
   std::vector<Occluder> occluders;
-  // Unit illumination everywhere (no spotlight, no face shading): lets tests
-  // compare pixels with exact coverage.
+  // Unit illumination everywhere (no spotlight, no face shading, no cast
+  // shadow): lets tests compare pixels with exact coverage.
   bool flat_lighting = false;
+  // A distant light (a lamp across the room, the sun through a window) that
+  // makes the pen cast a shadow on the board; nullopt: no cast shadow, the
+  // fixed shading alone. Unit, tank frame, from the board towards the light
+  // (z > 0). Model, for the board's layers (paper, floor pattern, tags):
+  //   radiance = albedo * spot * (ambient_share + (1 - ambient_share) * V),
+  // with spot the fixed soft falloff the board has without the light and V
+  // the visible share of the light's disc (1 lit, 0 in the umbra), from
+  // rays to the pen's cube and shaft (the cylinder drawn: the shaft's
+  // radius, flat ends at the tip and at the cube). The board is flat and the
+  // light
+  // distant, so the light's cosine is the same at every board point: it is
+  // part of the lit level, not a shading term. The cube's faces are shaded
+  // by their cosine to this light instead of the fixed direction; nothing
+  // else casts shadows (hands do not).
+  std::optional<Eigen::Vector3d> light_in_tank;
+  // Share of the lit board's light that does not come from `light_in_tank`
+  // (room ambient, sky): the umbra's brightness over the lit board's, 0..1.
+  double ambient_share = 0.35;
+  // Angular radius of the light's disc, radians (0.5 degrees: a lamp of
+  // 2.6 cm at 1.5 m, about the sun's): the penumbra's width.
+  double light_radius_rad = 0.0087;
 };
 
 // Imaging applied after the exact geometric render, in this order:
@@ -104,6 +125,11 @@ struct SequenceOptions {
   int segment_frames = 50;
   double fps = 30.0;
   uint64_t seed = 1;
+  // Adds SceneState::light_in_tank: per segment a fixed light at azimuth
+  // 0-360 degrees and elevation 30-75 degrees, ambient share 0.25-0.5
+  // (uniform; drawn from their own generator, so the rest of the sequence
+  // is the same with or without it).
+  bool directional_light = false;
 };
 
 struct FrameSpec {

@@ -2,6 +2,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <exception>
+#include <string>
+#include <utility>
 
 #include "app/app_floor.h"
 
@@ -26,9 +29,47 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
                   "Angular radius of the light, degrees (default 2): the "
                   "size of the glints on the ripples");
   AddFloorOption(sub, &args->floor);
+  sub->add_option("--light", args->light,
+                  "The light: auto (from the real pen's shadow on the board, "
+                  "held over time; the default) or AZ,EL in degrees, tank "
+                  "frame: azimuth from the board's +x towards +y, elevation "
+                  "above the board")
+      ->capture_default_str();
   sub->add_flag("--no-occluders", args->no_occluders,
                 "Draw the water over everything: no clean plate of the "
                 "board, no hands or objects kept in front of the tank");
+}
+
+bool ParseLightDirection(const std::string& text, Eigen::Vector3d* light,
+                         std::string* error) {
+  auto fail = [&](const std::string& why) {
+    if (error) *error = "--light '" + text + "': " + why;
+    return false;
+  };
+  const size_t comma = text.find(',');
+  if (comma == std::string::npos ||
+      text.find(',', comma + 1) != std::string::npos)
+    return fail("use auto or AZ,EL in degrees (e.g. 30,60)");
+  double az = 0, el = 0;
+  for (auto [part, out] :
+       {std::pair<std::string, double*>{text.substr(0, comma), &az},
+        {text.substr(comma + 1), &el}}) {
+    size_t used = 0;
+    try {
+      *out = std::stod(part, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (part.empty() || used != part.size() || !std::isfinite(*out))
+      return fail("'" + part + "' is not a number");
+  }
+  if (!(az >= -360 && az <= 360))
+    return fail("azimuth must be in [-360, 360] degrees");
+  if (!(el > 0 && el <= 90))
+    return fail("elevation must be in (0, 90] degrees");
+  const double a = az * M_PI / 180.0, e = el * M_PI / 180.0;
+  *light = {std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e)};
+  return true;
 }
 
 bool SetBoardFloor(PipelineArgs* args, const tracking::Rig& rig) {
@@ -59,6 +100,11 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.occluders = !args->no_occluders;
+  if (args->light != "auto") {
+    Eigen::Vector3d light;
+    if (!ParseLightDirection(args->light, &light, error)) return false;
+    o.fixed_light = light;
+  }
   o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;
   render::WaterLook look;
   if (!render::ParseWaterLook(args->water_look, &look)) {

@@ -4,6 +4,7 @@
 #define RIPPLE_APP_APP_OPTIONS_H_
 
 #include <CLI/CLI.hpp>
+#include <Eigen/Core>
 #include <cmath>
 #include <opencv2/core.hpp>
 #include <string>
@@ -24,7 +25,8 @@ struct PipelineArgs {
   std::string water_look = "clear";
   double ambient = std::nan("");         // sky's share of the light, [0, 1]
   double light_size_deg = std::nan("");  // angular radius of the light
-  std::string floor;  // --floor: the printed tank floor (app_floor.h)
+  std::string floor;           // --floor: the printed tank floor (app_floor.h)
+  std::string light = "auto";  // --light auto | AZ,EL (degrees)
   bool no_occluders = false;
 };
 
@@ -34,6 +36,12 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args);
 // Resolves the backend and toggles into args->options; false with `error`.
 bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
                            std::string* error);
+
+// --light AZ,EL (degrees: azimuth from the tank's +x towards +y, elevation
+// above the board) as a unit vector towards the light; false with `error`
+// naming the option for anything else.
+bool ParseLightDirection(const std::string& text, Eigen::Vector3d* light,
+                         std::string* error);
 
 // The printed board's floor (--floor) for the clean plate's prior, into
 // args->options.board_floor; false after printing the one line (the caller

@@ -1,5 +1,8 @@
 #include "app/app_pipeline.h"
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <future>
 
 #include "app/app_obstacles.h"
@@ -32,6 +35,13 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
                                            std::string* error) {
   if (!options.IsValid(error)) return nullptr;
   if (options.occluders && !options.clean_plate.IsValid(error)) return nullptr;
+  if (!options.light_tracker.IsValid(error) ||
+      !options.light_estimator.IsValid(error))
+    return nullptr;
+  if (options.light_every_frames < 1) {
+    if (error) *error = "light_every_frames must be >= 1";
+    return nullptr;
+  }
   std::unique_ptr<Pipeline> p(new Pipeline());
   p->camera_ = camera;
   p->rig_ = rig;
@@ -96,8 +106,70 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
       p->plate_->SetBoardPrior(levels, valid);
     }
   }
+  p->light_tracker_ = tracking::LightTracker(options.light_tracker);
+  if (options.fixed_light) {
+    const Eigen::Vector3d l = options.fixed_light->normalized();
+    s.light_in_tank = {l.x(), l.y(), l.z()};
+  }
   p->composite_.create(camera.height, camera.width, CV_8UC3);
   return p;
+}
+
+void Pipeline::UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tr,
+                           FrameReport* report) {
+  report->light_in_tank = {scene_.light_in_tank.x, scene_.light_in_tank.y,
+                           scene_.light_in_tank.z};
+  if (options_.fixed_light) return;
+  // A finished estimate feeds the tracker; the scene's light follows the
+  // held light when it moved by more than a degree (each change redraws
+  // the shadow map and the caustics).
+  if (light_job_.valid() && light_job_.wait_for(std::chrono::seconds(0)) ==
+                                std::future_status::ready) {
+    const auto& held = light_tracker_.Update(light_job_.get());
+    if (held) {
+      const Eigen::Vector3d now =
+          Eigen::Vector3d(scene_.light_in_tank.x, scene_.light_in_tank.y,
+                          scene_.light_in_tank.z)
+              .normalized();
+      if (std::acos(std::clamp(now.dot(held->light_in_tank), -1.0, 1.0)) >
+          M_PI / 180.0) {
+        const Eigen::Vector3d& l = held->light_in_tank;
+        scene_.light_in_tank = {l.x(), l.y(), l.z()};
+      }
+    }
+  }
+  report->light_from_shadow = light_tracker_.current().has_value();
+  ++frames_since_light_job_;
+  if (light_job_.valid() || !rig_.pen || !tr.tank.has_pose() ||
+      !tr.pen.has_pose() ||
+      frames_since_light_job_ < options_.light_every_frames)
+    return;
+  frames_since_light_job_ = 0;
+  auto input = std::make_shared<tracking::LightFromShadowInput>();
+  input->bgr = bgr.clone();
+  input->cam_from_tank = *tr.tank.cam_from_object;
+  input->tank_from_pen =
+      tr.tank.cam_from_object->Inverse() * *tr.pen.cam_from_object;
+  input->board_in_tank = synth::BoardSheetRect(rig_);
+  auto reference = std::make_shared<tracking::BoardReference>();
+  // The printed design is the shadow-free board everywhere on the sheet
+  // (the learned plate covers only the tank's surroundings).
+  if (plate_ && !plate_->board_prior().empty()) {
+    reference->bgra = plate_->board_prior();
+    reference->origin_m = {plate_->plate_origin_m().x,
+                           plate_->plate_origin_m().y};
+    reference->texel_m = plate_->texel_m();
+    input->reference = reference.get();
+  }
+  if (plate_) input->exclude = plate_->foreground().clone();
+  light_job_ = std::async(std::launch::async,
+                          [input, reference, options = options_.light_estimator,
+                           camera = camera_, pen = *rig_.pen] {
+                            tracking::LightEstimate estimate;
+                            tracking::EstimateLightFromShadow(
+                                options, camera, pen, *input, &estimate);
+                            return estimate;
+                          });
 }
 
 bool Pipeline::AddObstacleAt(double x_m, double y_m, std::string* error) {
@@ -220,6 +292,7 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
       options_.effects.caustics ? water_->CoarseView() : sim::HeightFieldView();
   report.times.sim = sim_watch.ElapsedMs();
   report.times.occ = occ.get();
+  UpdateLight(bgr, tr, &report);
 
   // Render.
   const bench::Stopwatch render_watch;

@@ -5,6 +5,7 @@
 #ifndef RIPPLE_APP_APP_PIPELINE_H_
 #define RIPPLE_APP_APP_PIPELINE_H_
 
+#include <future>
 #include <memory>
 #include <opencv2/core.hpp>
 #include <optional>
@@ -16,6 +17,7 @@
 #include "sim/water_surface.h"
 #include "tracking/camera.h"
 #include "tracking/clean_plate.h"
+#include "tracking/light_from_shadow.h"
 #include "tracking/rig.h"
 #include "tracking/synth/floor_pattern.h"
 #include "tracking/tracker.h"
@@ -40,12 +42,23 @@ struct PipelineOptions {
   // The printed board's floor, the clean plate's prior (the board's design);
   // nullopt: no prior.
   std::optional<synth::FloorPattern> board_floor;
+  // The light: from the real pen's shadow on the board (held over time;
+  // the default direction until one is found), or fixed (unit, towards the
+  // light, tank frame).
+  std::optional<Eigen::Vector3d> fixed_light;
+  tracking::LightFromShadowOptions light_estimator;
+  tracking::LightTrackerOptions light_tracker;
+  int light_every_frames = 10;  // an estimate is started every this many
 
   bool IsValid(std::string* error) const;
 };
 
 struct FrameReport {
   tracking::FrameResult tracking;
+  // The light the frame was rendered with, unit, tank frame, and whether it
+  // comes from the pen's shadow.
+  Eigen::Vector3d light_in_tank = Eigen::Vector3d::UnitZ();
+  bool light_from_shadow = false;
   sim::AdvanceStats water;
   render::PassTimings passes;
   bench::StageTimes times;
@@ -96,6 +109,13 @@ class Pipeline {
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<tracking::CleanPlate> plate_;
   cv::Mat pen_mask_;  // the pen's silhouette, for the clean plate
+  // The light from the pen's shadow: estimated on a worker thread on copies
+  // of every light_every_frames-th frame, held by the tracker.
+  tracking::LightTracker light_tracker_;
+  std::future<tracking::LightEstimate> light_job_;
+  int frames_since_light_job_ = 0;
+  void UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tracking,
+                   FrameReport* report);
   // Runs the clean plate on this frame and fills the scene's occluder mask
   // and plate (cleared when the plate is off or the tank not seen).
   void UpdateRealObjects(const cv::Mat& bgr,

@@ -147,6 +147,9 @@ class CleanPlate {
   // False (nothing changed) on a size or type mismatch.
   bool SetBoardPrior(const cv::Mat& design_levels, const cv::Mat& valid);
   cv::Size plate_size() const { return {plate_w_, plate_h_}; }
+  // The design as set, 8-bit BGRA on the plate's grid (alpha 255 where
+  // valid); empty without a prior.
+  const cv::Mat& board_prior() const { return prior_; }
 
   // Forgets the plate (a new board or a cut); the prior stays.
   void Reset();

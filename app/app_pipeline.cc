@@ -219,12 +219,8 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                                 rig_.pen->tip_in_pen, grow_px, &pen_mask_);
     exclude = pen_mask_;
   }
-  const tracking::TankSpec& t = rig_.tank;
-  const cv::Rect window = tracking::TankWindow(
-      camera_, cam_from_tank, t.size_x_m, t.size_y_m,
-      std::max(t.wall_height_m, t.water_level_m + 0.01), 4);
   const tracking::CleanPlateSummary& summary =
-      plate_->Process(bgr, cam_from_tank, exclude, window);
+      plate_->Process(bgr, cam_from_tank, exclude);
   const cv::Mat& mask = plate_->foreground();
   const cv::Rect w = plate_->foreground_window();
   scene_.occluders.mask = mask.data;

@@ -115,9 +115,9 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
 }  // namespace
 
 const std::vector<std::string>& RenderSceneNames() {
-  static const std::vector<std::string> names = {"flat",   "ring",    "demo_a",
-                                                 "demo_b", "demo_c",  "tiles",
-                                                 "pen",    "grazing", "lens"};
+  static const std::vector<std::string> names = {
+      "flat",  "ring", "demo_a", "demo_b",  "demo_c",
+      "tiles", "pen",  "hand",   "grazing", "lens"};
   return names;
 }
 
@@ -222,6 +222,37 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     s.scene.scene.tank_from_pen =
         PenAt(*rig.pen, {0.015, -0.005, level - 0.010}, {0.15, -0.30, 1.0});
     s.scene.scene.obstacles = obstacles;
+    scenes->push_back(s);
+  }
+  {
+    // A hand (a flat mitten outline, skin-coloured) held 60 mm over the
+    // tank's left half, facing the camera, over the demo's water and pen.
+    RenderBenchScene s = make(
+        "hand", "a hand over the tank, the demo's water, pen and pillar", true);
+    s.heights = demo[1].heights;
+    s.scene.scene.water = demo[1].view;
+    s.scene.scene.obstacles = obstacles;
+    if (demo[1].tank_from_pen) {
+      s.scene.scene.pen_visible = true;
+      s.scene.scene.tank_from_pen = ToGlm(*demo[1].tank_from_pen);
+    }
+    const glm::dvec3 eye(glm::inverse(front)[3]);
+    const glm::dvec3 centre(-0.045, 0.005, 0.06);
+    const glm::dvec3 view = glm::normalize(centre - eye);
+    const glm::dvec3 right = glm::normalize(glm::cross(view, {0.0, 0.0, 1.0}));
+    const glm::dvec3 up = glm::cross(right, view);
+    // Palm 70 x 60 mm with four fingers (and a thumb) pointing up-right.
+    const double outline[][2] = {
+        {-0.035, -0.045}, {0.030, -0.045}, {0.036, 0.000},  {0.040, 0.050},
+        {0.030, 0.052},   {0.024, 0.012},  {0.020, 0.062},  {0.010, 0.064},
+        {0.006, 0.016},   {0.000, 0.066},  {-0.010, 0.064}, {-0.008, 0.014},
+        {-0.018, 0.058},  {-0.028, 0.056}, {-0.026, 0.004}, {-0.052, 0.018},
+        {-0.058, 0.008},  {-0.036, -0.020}};
+    reference::ReferenceScene::Occluder hand;
+    for (const auto& p : outline)
+      hand.polygon_in_tank.push_back(centre + p[0] * right + p[1] * up);
+    hand.radiance_bgr = {0.38f, 0.47f, 0.68f};
+    s.scene.occluders.push_back(hand);
     scenes->push_back(s);
   }
   {

@@ -22,6 +22,7 @@
 #include "bench/stats.h"
 #include "render/context.h"
 #include "render/renderer.h"
+#include "tracking/clean_plate.h"
 
 namespace ripple::app {
 namespace {
@@ -83,7 +84,60 @@ struct SceneResult {
   // numbers: the part of `flip` that is the reference's own noise.
   double noise_floor = 0;
   int water_pixels = 0;
+  // FLIP in windows: around the pen (its silhouette grown by 12 px, inside
+  // the water) and over the hands (their pixels over the tank); -1: none.
+  double flip_pen = -1, flip_hand = -1;
+  // The same windows without the clean plate and the occluder mask (the
+  // water over everything, the floor read from the video wherever it is).
+  double flip_pen_plain = -1, flip_hand_plain = -1;
 };
+
+// The real objects as the pipeline sees them: a clean plate learned from
+// the dry frames without the hands (`clean`: the pen excluded), then the
+// occluder mask of the frame with them (`video`). Fills the plate and mask
+// views of `in` (their storage in `plate`).
+void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
+                 const cv::Mat& video, cv::Mat* pen_silhouette,
+                 std::unique_ptr<tracking::CleanPlate>* plate,
+                 render::SceneInputs* in) {
+  const render::TankGeometry& t = rs.scene.tank;
+  const double top = std::max(t.wall_height, t.water_level + 0.01f);
+  *plate = std::make_unique<tracking::CleanPlate>(rs.camera, t.size_x, t.size_y,
+                                                  top);
+  auto pose = [](const glm::dmat4& m) {
+    const Eigen::Matrix4d e = Eigen::Map<const Eigen::Matrix4d>(&m[0][0]);
+    return tracking::Pose::FromMatrix(
+        Eigen::Matrix3d(e.topLeftCorner<3, 3>()),
+        Eigen::Vector3d(e.topRightCorner<3, 1>()));
+  };
+  const tracking::Pose cam_from_tank = pose(rs.scene.cam_from_tank);
+  pen_silhouette->release();
+  if (rs.scene.pen_visible) {
+    const render::PenGeometry& g = rs.scene.pen;
+    const glm::dmat4 m = rs.scene.cam_from_tank * rs.scene.tank_from_pen;
+    const tracking::Pose cam_from_pen = pose(m);
+    tracking::DrawPenSilhouette(
+        rs.camera, cam_from_pen, g.cube_edge, g.shaft_radius,
+        Eigen::Vector3d(0, 0, -0.5 * g.cube_edge - g.shaft_length), 2.5,
+        pen_silhouette);
+  }
+  for (int i = 0; i < 4; ++i)
+    (*plate)->Process(clean, cam_from_tank, *pen_silhouette);
+  (*plate)->Process(video, cam_from_tank, *pen_silhouette);
+  const cv::Mat& mask = (*plate)->foreground();
+  const cv::Rect w = (*plate)->foreground_window();
+  in->occluders = {mask.data, mask.cols, mask.rows, static_cast<int>(mask.step),
+                   glm::ivec4(w.x, w.y, w.width, w.height)};
+  const cv::Mat& p = (*plate)->plate();
+  in->plate = {p.data,
+               p.cols,
+               p.rows,
+               static_cast<int>(p.step),
+               {(*plate)->plate_origin_m().x, (*plate)->plate_origin_m().y},
+               (*plate)->texel_m(),
+               static_cast<float>((*plate)->summary().gain),
+               (*plate)->plate_counter()};
+}
 
 cv::Mat RenderRealTime(render::Renderer* r, const render::SceneInputs& in) {
   cv::Mat out(r->intrinsics().height, r->intrinsics().width, CV_8UC3);
@@ -238,7 +292,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
-  csv << ",reference_noise,main_ms,caustics_ms,shadow_ms,reference_s\n";
+  csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
+         "flip_hand_without_mask,main_ms,caustics_ms,shadow_ms,reference_s\n";
   std::printf(
       "mean LDR-FLIP inside the water, real-time against the "
       "reference (%dx%d, %d spp, %d light paths per texel)\n",
@@ -246,11 +301,12 @@ int RunBenchRender(const RenderBenchArgs& args) {
       refo.light_paths_per_texel);
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
-  std::printf(" | %6s | %6s %6s %6s | %6s\n", "noise", "main", "caust",
-              "shadow", "ref_s");
+  std::printf(" | %6s | %6s %6s %6s %6s | %6s %6s %6s | %6s\n", "noise", "pen",
+              "hand", "pen", "hand", "main", "caust", "shadow", "ref_s");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
-  std::printf(" | %6s | %6s %6s %6s |\n", "floor", "ms", "ms", "ms");
+  std::printf(" | %6s | %6s %6s %6s %6s | %6s %6s %6s |\n", "floor", "FLIP",
+              "FLIP", "plain", "plain", "ms", "ms", "ms");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -292,6 +348,23 @@ int RunBenchRender(const RenderBenchArgs& args) {
     render::SceneInputs in = rs.scene;
     in.video = {video.data, video.cols, video.rows,
                 static_cast<int>(video.step)};
+    // With a pen or hands: the clean plate and occluder mask, as the
+    // pipeline makes them (learned from hand-free frames).
+    std::unique_ptr<tracking::CleanPlate> plate;
+    cv::Mat pen_silhouette;
+    if (rs.scene.pen_visible || !rs.occluders.empty()) {
+      cv::Mat clean = video;
+      if (!rs.occluders.empty()) {
+        reference::ReferenceScene without = rs;
+        without.occluders.clear();
+        cv::Mat clean_linear;
+        if (!reference::RenderReference(dry, without, &clean_linear, nullptr,
+                                        &error))
+          return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
+        clean = reference::LinearToSrgb8(clean_linear);
+      }
+      RealObjects(rs, clean, video, &pen_silhouette, &plate, &in);
+    }
     const cv::Mat realtime = RenderRealTime(renderer.get(), in);
     if (realtime.empty())
       return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
@@ -310,6 +383,45 @@ int RunBenchRender(const RenderBenchArgs& args) {
     if (!bench::ComputeFlip(fo, reference, reference_again, &noise_map, &error))
       return Fail(kExitRuntime, error);
     res.noise_floor = bench::MeanFlip(noise_map, mask);
+    cv::Mat plain_map;
+    if (plate) {
+      render::SceneInputs plain = in;
+      plain.occluders = {};
+      plain.plate = {};
+      const cv::Mat img = RenderRealTime(renderer.get(), plain);
+      if (img.empty() ||
+          !bench::ComputeFlip(fo, reference, img, &plain_map, &error))
+        return Fail(kExitRuntime, "scene '" + s.name + "': plain run failed");
+    }
+    if (!pen_silhouette.empty()) {
+      cv::Mat around;
+      cv::dilate(pen_silhouette, around,
+                 cv::getStructuringElement(cv::MORPH_ELLIPSE, {25, 25}));
+      around &= mask;
+      if (cv::countNonZero(around) > 0) {
+        res.flip_pen = bench::MeanFlip(flip_map, around);
+        res.flip_pen_plain = bench::MeanFlip(plain_map, around);
+      }
+    }
+    if (!rs.occluders.empty()) {
+      // The hands' pixels over the water (their polygons projected).
+      cv::Mat hands(mask.size(), CV_8U, cv::Scalar(0));
+      for (const auto& o : rs.occluders) {
+        std::vector<cv::Point> px;
+        for (const glm::dvec3& p : o.polygon_in_tank) {
+          const glm::dvec4 c = rs.scene.cam_from_tank * glm::dvec4(p, 1.0);
+          px.emplace_back(cvRound(k.fx * c.x / c.z + k.cx),
+                          cvRound(k.fy * c.y / c.z + k.cy));
+        }
+        cv::fillPoly(hands, std::vector<std::vector<cv::Point>>{px},
+                     cv::Scalar(255));
+      }
+      hands &= mask;
+      if (cv::countNonZero(hands) > 0) {
+        res.flip_hand = bench::MeanFlip(flip_map, hands);
+        res.flip_hand_plain = bench::MeanFlip(plain_map, hands);
+      }
+    }
     for (int e = 0; e < kNumEffects; ++e) {
       render::SceneInputs off = in;
       off.effects.*(kEffects[e].flag) = false;
@@ -345,11 +457,23 @@ int RunBenchRender(const RenderBenchArgs& args) {
       std::printf(" %6.4f", res.flip_off[e]);
       csv << ',' << res.flip_off[e];
     }
-    std::printf(" | %6.4f | %6.2f %6.2f %6.2f | %6.1f\n", res.noise_floor,
-                res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
-    csv << ',' << res.noise_floor << ',' << res.main_ms << ','
-        << res.caustics_ms << ',' << res.shadow_ms << ',' << res.reference_s
-        << '\n';
+    auto window = [](double v) {
+      char b[16];
+      if (v < 0)
+        std::snprintf(b, sizeof(b), "%6s", "-");
+      else
+        std::snprintf(b, sizeof(b), "%6.4f", v);
+      return std::string(b);
+    };
+    std::printf(
+        " | %6.4f | %s %s %s %s | %6.2f %6.2f %6.2f | %6.1f\n", res.noise_floor,
+        window(res.flip_pen).c_str(), window(res.flip_hand).c_str(),
+        window(res.flip_pen_plain).c_str(), window(res.flip_hand_plain).c_str(),
+        res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
+    csv << ',' << res.noise_floor << ',' << res.flip_pen << ',' << res.flip_hand
+        << ',' << res.flip_pen_plain << ',' << res.flip_hand_plain << ','
+        << res.main_ms << ',' << res.caustics_ms << ',' << res.shadow_ms << ','
+        << res.reference_s << '\n';
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
@@ -397,7 +521,7 @@ CommandAction SetupBenchRender(CLI::App* sub) {
       ->capture_default_str();
   sub->add_option("--scenes", args->scenes,
                   "Scenes to run (flat ring demo_a demo_b demo_c tiles pen "
-                  "grazing lens; default all)");
+                  "hand grazing lens; default all)");
   sub->add_option("--export", args->export_dir,
                   "Also write each scene's inputs and both renders here");
   sub->add_option("--water-look", args->water_look,

@@ -139,9 +139,10 @@ void CleanPlate::Undistort(const cv::Mat& bgr, const cv::Rect& window,
 
 const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
                                              const Pose& cam_from_tank,
-                                             const cv::Mat& exclude,
-                                             cv::Rect window) {
+                                             const cv::Mat& exclude) {
   summary_ = CleanPlateSummary();
+  cv::Rect window =
+      TankWindow(camera_, cam_from_tank, size_x_m_, size_y_m_, box_top_m_, 4);
   // The last window's mask is cleared; the new one is written below.
   if (window_.area() > 0) foreground_(window_).setTo(0);
   window &= cv::Rect(0, 0, camera_.width, camera_.height);

@@ -116,12 +116,12 @@ class CleanPlate {
 
   // One frame: `bgr` (CV_8UC3, the camera's size, as captured), the board's
   // pose, `exclude` (CV_8U of the camera's size in ideal-pinhole pixels, or
-  // empty): known objects' pixels, neither learned nor reported; `window`
-  // (ideal-pinhole pixels): where the mask is wanted (clipped to the image).
-  // Returns the summary; the mask is foreground().
+  // empty): known objects' pixels, neither learned nor reported. The mask
+  // covers the tank box's window (TankWindow, 4 px of margin). Returns the
+  // summary; the mask is foreground().
   const CleanPlateSummary& Process(const cv::Mat& bgr,
                                    const Pose& cam_from_tank,
-                                   const cv::Mat& exclude, cv::Rect window);
+                                   const cv::Mat& exclude);
 
   // CV_8U, the camera's size, ideal-pinhole pixels: 255 where something real
   // is in front of the board; 0 elsewhere and outside foreground_window().

@@ -160,6 +160,39 @@ void Shuffle(std::vector<int>* v, Rng* rng) {
 
 }  // namespace
 
+// The first occluder (reference.h) the ray eye + t d meets, or null.
+const ReferenceScene::Occluder* HitOccluder(const ReferenceScene& scene,
+                                            const glm::dvec3& eye,
+                                            const glm::dvec3& d) {
+  for (const ReferenceScene::Occluder& o : scene.occluders) {
+    const std::vector<glm::dvec3>& poly = o.polygon_in_tank;
+    if (poly.size() < 3) continue;
+    const glm::dvec3 n =
+        glm::normalize(glm::cross(poly[1] - poly[0], poly[2] - poly[0]));
+    const double dn = glm::dot(d, n);
+    if (std::abs(dn) < 1e-12) continue;
+    const double t = glm::dot(poly[0] - eye, n) / dn;
+    if (!(t > 0)) continue;
+    const glm::dvec3 p = eye + t * d;
+    // Even-odd rule in the plane's own 2D basis.
+    const glm::dvec3 u = glm::normalize(poly[1] - poly[0]);
+    const glm::dvec3 v = glm::cross(n, u);
+    const glm::dvec2 q(glm::dot(p - poly[0], u), glm::dot(p - poly[0], v));
+    bool inside = false;
+    for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+      const glm::dvec2 a(glm::dot(poly[i] - poly[0], u),
+                         glm::dot(poly[i] - poly[0], v));
+      const glm::dvec2 b(glm::dot(poly[j] - poly[0], u),
+                         glm::dot(poly[j] - poly[0], v));
+      if ((a.y > q.y) != (b.y > q.y) &&
+          q.x < (b.x - a.x) * (q.y - a.y) / (b.y - a.y) + a.x)
+        inside = !inside;
+    }
+    if (inside) return &o;
+  }
+  return nullptr;
+}
+
 void TraceCamera(const ReferenceOptions& options, const ReferenceScene& scene,
                  const SceneModel& model, const IrradianceAtlas* atlas,
                  const LightRadiometry& rad, int threads, const cv::Rect& roi,
@@ -218,6 +251,11 @@ void TraceCamera(const ReferenceOptions& options, const ReferenceScene& scene,
           const Eigen::Vector3d ray = PixelRay(cam, pixel, options.distort);
           const glm::dvec3 d =
               glm::normalize(rot * glm::dvec3(ray.x(), ray.y(), ray.z()));
+          if (const auto* o = HitOccluder(scene, eye, d)) {
+            sum += Spectrum(o->radiance_bgr[0], o->radiance_bgr[1],
+                            o->radiance_bgr[2]);
+            continue;
+          }
           sum += tracer.Radiance(eye, d, Medium::kAir, true, true, 0, 1.0, 0,
                                  &first, &rng);
         }

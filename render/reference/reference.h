@@ -109,6 +109,15 @@ struct ReferenceScene {
   cv::Vec3f pen_albedo{0.45f, 0.45f, 0.45f};
   // The real-time renderer's obstacle colour (linear RGB 0.78, 0.74, 0.68).
   cv::Vec3f obstacle_albedo{0.68f, 0.74f, 0.78f};
+  // Real things between the camera and the tank (hands): flat polygons in
+  // the tank frame, in front of everything, of a fixed linear BGR radiance
+  // (in display units, like the video), in the dry and the wet render
+  // alike.
+  struct Occluder {
+    std::vector<glm::dvec3> polygon_in_tank;  // planar, convex or not
+    cv::Vec3f radiance_bgr{0.45f, 0.55f, 0.75f};
+  };
+  std::vector<Occluder> occluders;
   double light_angular_radius_rad = 2.0 * M_PI / 180.0;  // the disc's radius
   double ambient_share = 0.3;  // a in [0, 1]: the sky's share (see above)
   // Beer-Lambert absorption of pure water per metre and band (B, G, R):

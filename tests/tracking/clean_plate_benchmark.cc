@@ -74,8 +74,7 @@ void BM_CleanPlateProcess(benchmark::State& state) {
   for (auto _ : state) {
     const size_t k = i++ % f.images.size();
     texels +=
-        plate.Process(f.images[k], f.poses[k], f.excludes[k], f.windows[k])
-            .visited_texels;
+        plate.Process(f.images[k], f.poses[k], f.excludes[k]).visited_texels;
   }
   state.counters["texels"] = texels / std::max<size_t>(i, 1);
   state.counters["window_px"] = f.windows[0].area();

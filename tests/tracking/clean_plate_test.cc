@@ -121,7 +121,7 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
         renderer.Render(f.scene, f.imaging, f.noise_seed);
     const cv::Mat exclude = PenMask(camera, rig, f.scene);
     const cv::Rect window = Window(camera, rig, f.scene.cam_from_tank);
-    plate.Process(r.image, f.scene.cam_from_tank, exclude, window);
+    plate.Process(r.image, f.scene.cam_from_tank, exclude);
     // A cut (a new segment) moves the camera, not the board: the plate
     // carries over. Scoring starts after the first few frames of learning.
     if (f.index < 2) continue;
@@ -169,7 +169,7 @@ TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
                    rig.tank.wall_height_m);
   for (int i = 0; i < 10; ++i)
     plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, i + 1),
-                  cam_from_tank, cv::Mat(), window);
+                  cam_from_tank, cv::Mat());
   EXPECT_GT(plate.summary().known_texels, 10000);
   // 20% darker everywhere, and a soft-edged shadow at 55% of the light.
   cv::Mat frame = BoardFrame(renderer, cam_from_tank, 0.8, 99);
@@ -184,8 +184,7 @@ TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
   cv::merge(std::vector<cv::Mat>{shade, shade, shade}, shade3);
   f32 = f32.mul(shade3);
   f32.convertTo(frame, CV_8UC3);
-  const CleanPlateSummary& s =
-      plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  const CleanPlateSummary& s = plate.Process(frame, cam_from_tank, cv::Mat());
   EXPECT_NEAR(s.gain, 0.8, 0.05);
   EXPECT_LT(s.foreground_px, 50) << "shadow or drift taken for an occluder";
   // A hand-coloured patch in the same place is foreground.
@@ -193,7 +192,7 @@ TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
   const cv::Rect patch(window.x + window.width / 3,
                        window.y + window.height / 3, 40, 30);
   with_patch(patch).setTo(cv::Scalar(110, 140, 190));
-  plate.Process(with_patch, cam_from_tank, cv::Mat(), window);
+  plate.Process(with_patch, cam_from_tank, cv::Mat());
   const int found = cv::countNonZero(plate.foreground()(patch));
   EXPECT_GE(found, patch.area() * 95 / 100);
   EXPECT_LE(plate.summary().foreground_px, patch.area() * 11 / 10);
@@ -213,7 +212,7 @@ TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {
   for (int i = 0; i < 5; ++i) {
     cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
     frame(patch).setTo(cv::Scalar(110, 140, 190));
-    plate.Process(frame, cam_from_tank, cv::Mat(), window);
+    plate.Process(frame, cam_from_tank, cv::Mat());
   }
   // Then it leaves: its ghost shows until the board has been seen for the
   // takeover time.
@@ -221,7 +220,7 @@ TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {
   int frames_with_ghost = 0;
   for (int i = 0; i < takeover + 2; ++i) {
     plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, i + 10),
-                  cam_from_tank, cv::Mat(), window);
+                  cam_from_tank, cv::Mat());
     if (cv::countNonZero(plate.foreground()(patch)) > 0) ++frames_with_ghost;
   }
   EXPECT_GE(frames_with_ghost, takeover - 2);
@@ -244,16 +243,16 @@ TEST(CleanPlateTest, ExcludedPixelsAreNeitherReportedNorLearned) {
   for (int i = 0; i < 8; ++i) {
     cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, i + 1);
     frame(patch).setTo(cv::Scalar(20, 20, 20));  // the pen, always there
-    plate.Process(frame, cam_from_tank, exclude, window);
+    plate.Process(frame, cam_from_tank, exclude);
     EXPECT_EQ(plate.summary().foreground_px, 0);
   }
   // Once the pen leaves, the texels it hid have never been learned: they
   // are unknown (not foreground), and the pen was never learned as board.
   cv::Mat frame = BoardFrame(renderer, cam_from_tank, 1.0, 50);
-  plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  plate.Process(frame, cam_from_tank, cv::Mat());
   EXPECT_EQ(plate.summary().foreground_px, 0);
   frame(patch).setTo(cv::Scalar(20, 20, 20));
-  plate.Process(frame, cam_from_tank, cv::Mat(), window);
+  plate.Process(frame, cam_from_tank, cv::Mat());
   EXPECT_GT(cv::countNonZero(plate.foreground()(patch)), patch.area() / 2);
 }
 

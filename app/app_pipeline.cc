@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <future>
 
 #include "app/app_obstacles.h"
@@ -221,6 +222,13 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
   }
   const tracking::CleanPlateSummary& summary =
       plate_->Process(bgr, cam_from_tank, exclude);
+  if (plate_->design_dropped() && !warned_design_) {
+    std::fprintf(stderr,
+                 "ripple: warning: the printed board (--floor and the rig's "
+                 "tags) does not match what the camera sees; the clean plate "
+                 "learns the board without it\n");
+    warned_design_ = true;
+  }
   const cv::Mat& mask = plate_->foreground();
   const cv::Rect w = plate_->foreground_window();
   scene_.occluders.mask = mask.data;

@@ -109,6 +109,7 @@ class Pipeline {
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<tracking::CleanPlate> plate_;
   cv::Mat pen_mask_;  // the pen's silhouette, for the clean plate
+  bool warned_design_ = false;
   // The light from the pen's shadow: estimated on a worker thread on copies
   // of every light_every_frames-th frame, held by the tracker.
   tracking::LightTracker light_tracker_;

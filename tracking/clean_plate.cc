@@ -20,6 +20,10 @@ cv::Matx33d ImageFromBoard(const Camera& camera, const Pose& cam_from_tank) {
   return k * rt;
 }
 
+inline cv::Vec3f Bgr(const cv::Vec4b& v) {
+  return {float(v[0]), float(v[1]), float(v[2])};
+}
+
 inline float MaxAbs3(const cv::Vec3f& a, const cv::Vec3f& b) {
   return std::max(
       {std::abs(a[0] - b[0]), std::abs(a[1] - b[1]), std::abs(a[2] - b[2])});
@@ -330,6 +334,7 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
   // away from known objects and the last frame's occluders, so an occluder
   // over the tank does not move the medians.
   std::vector<float> ratios, prior_ratios[3];
+  std::vector<std::pair<cv::Vec3b, cv::Vec3f>> design_samples;
   const double s = options_.texel_m;
   for (int j = 3; j < plate_h_; j += 7) {
     const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(j);
@@ -360,9 +365,11 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
       if (plate_ok)
         ratios.push_back(static_cast<float>(o[0] + o[1] + o[2]) /
                          static_cast<float>(p[i][0] + p[i][1] + p[i][2]));
-      if (prior_ok)
+      if (prior_ok) {
         for (int k = 0; k < 3; ++k)
           prior_ratios[k].push_back(static_cast<float>(o[k]) / q[i][k]);
+        design_samples.push_back({o, Bgr(q[i])});
+      }
     }
   }
   auto median = [](std::vector<float>* v) {
@@ -373,15 +380,23 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
   if (ratios.size() >= 100) gain_ = median(&ratios);
   if (prior_ratios[0].size() >= 100)
     for (int k = 0; k < 3; ++k) prior_gain_[k] = median(&prior_ratios[k]);
+  // A design the camera does not see (another board, another floor): when
+  // most of the paper samples are not what it allows, frame after frame, it
+  // is dropped and the plate learns without it.
+  if (design_samples.size() >= 100) {
+    int agree = 0;
+    for (const auto& [o, q] : design_samples)
+      agree += PriorAllows(cv::Vec3f(o[0], o[1], o[2]), q);
+    summary_.design_agreement = double(agree) / design_samples.size();
+    design_strikes_ = summary_.design_agreement < 0.6 ? design_strikes_ + 1 : 0;
+    if (design_strikes_ >= 5) {
+      prior_.release();
+      prior_lo_.release();
+      prior_hi_.release();
+      design_dropped_ = true;
+    }
+  }
 }
-
-namespace {
-
-inline cv::Vec3f Bgr(const cv::Vec4b& v) {
-  return {float(v[0]), float(v[1]), float(v[2])};
-}
-
-}  // namespace
 
 bool CleanPlate::PriorAllows(const cv::Vec3f& o, const cv::Vec3f& p) const {
   // The light may change the brightness, not the colour: the brightness

@@ -102,6 +102,9 @@ struct CleanPlateSummary {
   int visited_texels = 0;  // plate texels the tank's box hides
   double gain = 1.0;       // frame / plate brightness
   bool plate_changed = false;
+  // Share of the sheet's paper samples the printed design allows (-1: not
+  // measured); below 0.6 for 5 frames the design is dropped.
+  double design_agreement = -1;
 };
 
 class CleanPlate {
@@ -150,6 +153,8 @@ class CleanPlate {
   // The design as set, 8-bit BGRA on the plate's grid (alpha 255 where
   // valid); empty without a prior.
   const cv::Mat& board_prior() const { return prior_; }
+  // True once the design was dropped as not matching the camera's view.
+  bool design_dropped() const { return design_dropped_; }
 
   // Forgets the plate (a new board or a cut); the prior stays.
   void Reset();
@@ -182,6 +187,8 @@ class CleanPlate {
   // The design (levels) and its 3x3 darkest and brightest, CV_8UC4, alpha
   // 255 where valid.
   cv::Mat prior_, prior_lo_, prior_hi_;
+  int design_strikes_ = 0;
+  bool design_dropped_ = false;
   std::uint64_t plate_counter_ = 0;
   // Ideal-pinhole pixel -> captured pixel, for cameras with distortion.
   cv::Mat undistort_x_, undistort_y_;

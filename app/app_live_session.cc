@@ -1,6 +1,7 @@
 #include "app/app_live_session.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
@@ -273,10 +274,17 @@ std::vector<std::string> LiveSession::HudLines() const {
   const render::Effects& fx = pipeline_->effects();
   char buf[256];
   std::vector<std::string> lines;
-  std::snprintf(buf, sizeof(buf), "%.1f fps%s   tank %s   pen %s", fps,
+  const Eigen::Vector3d& l = last_.light_in_tank;
+  std::snprintf(buf, sizeof(buf),
+                "%.1f fps%s   tank %s   pen %s   light %.0f/%.0f deg %s", fps,
                 paused_ ? " (paused)" : "",
                 tracking::ToString(last_.tracking.tank.status),
-                tracking::ToString(last_.tracking.pen.status));
+                tracking::ToString(last_.tracking.pen.status),
+                std::atan2(l.y(), l.x()) * 180 / M_PI,
+                std::asin(std::clamp(l.z(), -1.0, 1.0)) * 180 / M_PI,
+                last_.light_fixed         ? "(fixed)"
+                : last_.light_from_shadow ? "(shadow)"
+                                          : "(default)");
   lines.push_back(buf);
   std::snprintf(buf, sizeof(buf),
                 "ms  cap %.1f det %.1f pose %.1f occ %.1f sim %.1f caus %.1f "

@@ -120,6 +120,7 @@ void Pipeline::UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tr,
                            FrameReport* report) {
   report->light_in_tank = {scene_.light_in_tank.x, scene_.light_in_tank.y,
                            scene_.light_in_tank.z};
+  report->light_fixed = options_.fixed_light.has_value();
   if (options_.fixed_light) return;
   // A finished estimate feeds the tracker; the scene's light follows the
   // held light when it moved by more than a degree (each change redraws

@@ -59,6 +59,7 @@ struct FrameReport {
   // comes from the pen's shadow.
   Eigen::Vector3d light_in_tank = Eigen::Vector3d::UnitZ();
   bool light_from_shadow = false;
+  bool light_fixed = false;  // --light AZ,EL
   sim::AdvanceStats water;
   render::PassTimings passes;
   bench::StageTimes times;

@@ -87,8 +87,9 @@ struct SceneResult {
   // FLIP in windows: around the pen (its silhouette grown by 12 px, inside
   // the water) and over the hands (their pixels over the tank); -1: none.
   double flip_pen = -1, flip_hand = -1;
-  // The same windows without the clean plate and the occluder mask (the
-  // water over everything, the floor read from the video wherever it is).
+  // The same windows without the real objects (Effects::real_objects off,
+  // no occluder mask: the water over everything, the floor read from the
+  // video wherever it is, the submerged shaft not drawn).
   double flip_pen_plain = -1, flip_hand_plain = -1;
 };
 
@@ -388,6 +389,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
       render::SceneInputs plain = in;
       plain.occluders = {};
       plain.plate = {};
+      plain.effects.real_objects = false;
       const cv::Mat img = RenderRealTime(renderer.get(), plain);
       if (img.empty() ||
           !bench::ComputeFlip(fo, reference, img, &plain_map, &error))

@@ -103,11 +103,12 @@ int RunDemo(DemoArgs args) {
 
   bench::StageTable active, idle;
   Eigen::Vector3d last_light = Eigen::Vector3d::UnitZ();
-  bool light_from_shadow = false;
+  bool light_from_shadow = false, light_fixed = false;
   FunctionSink tables([&](const LoopFrame& f, LoopStop*) {
     (f.index >= args.frames ? idle : active).Add(f.report->times);
     last_light = f.report->light_in_tank;
     light_from_shadow = f.report->light_from_shadow;
+    light_fixed = f.report->light_fixed;
     return true;
   });
   FunctionSink progress([&](const LoopFrame& f, LoopStop*) {
@@ -144,8 +145,10 @@ int RunDemo(DemoArgs args) {
       "light: azimuth %.1f, elevation %.1f deg (%s); the synthetic lamp: "
       "%.1f, %.1f deg, %.1f deg apart\n",
       got.x(), got.y(),
-      light_from_shadow ? "from the pen's shadow" : "the default", truth.x(),
-      truth.y(),
+      light_fixed         ? "--light"
+      : light_from_shadow ? "from the pen's shadow"
+                          : "the default",
+      truth.x(), truth.y(),
       std::acos(std::clamp(last_light.normalized().dot(lamp), -1.0, 1.0)) *
           180 / M_PI);
   if (!active.AppendCsv(args.out + "/timing.csv", "active", true, &error) ||

@@ -53,7 +53,8 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
   *state = RealObjectsState();
   // The pen: its shaft from the tip to the cube's face, the cube's
   // bounding sphere.
-  if (scene.pen_visible && scene.effects.pen_occludes) {
+  const bool real = scene.effects.real_objects;
+  if (real && scene.pen_visible && scene.effects.pen_occludes) {
     const PenGeometry& g = scene.pen;
     const glm::dmat4& m = scene.tank_from_pen;
     const glm::dvec3 face =
@@ -96,7 +97,8 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
   last_window_ = window;
   // The plate, when it changed.
   const BoardPlateView& p = scene.plate;
-  if (p.bgra != nullptr && p.width > 0 && p.height > 0 && p.texel_m > 0) {
+  if (real && p.bgra != nullptr && p.width > 0 && p.height > 0 &&
+      p.texel_m > 0) {
     glActiveTexture(GL_TEXTURE0 + kUnitPlate);
     if (p.width != plate_w_ || p.height != plate_h_) {
       AllocTexture(&plate_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, p.width,

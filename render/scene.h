@@ -94,6 +94,10 @@ struct Effects {
   bool shadows = true;       // shadow map
   bool caustics = true;      // Nishita-Nakamae caustics map
   bool pen_occludes = true;  // pen phantom in depth
+  // The real pen and occluders in the water's refraction: the submerged
+  // shaft seen bent, floor points the video does not show read from the
+  // clean plate (off: the floor is read from the video wherever it is).
+  bool real_objects = true;
   // Debugging and registration checks: the water in one flat colour.
   bool flat_water = false;
 };

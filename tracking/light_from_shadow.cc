@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "geometry/polygon2d.h"
 #include "tracking/clean_plate.h"
 
 namespace ripple::tracking {
@@ -257,21 +258,6 @@ bool ClipLine(const std::vector<Vector2d>& poly, const Vector2d& p,
   return true;
 }
 
-// Distance from p to a convex polygon, negative inside.
-double SignedDistance(const std::vector<Vector2d>& poly, const Vector2d& p) {
-  double d = kInf;
-  bool inside = poly.size() >= 3;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vector2d e = poly[i] - poly[j];
-    const double u = std::clamp(
-        (p - poly[j]).dot(e) / std::max(e.squaredNorm(), 1e-30), 0.0, 1.0);
-    d = std::min(d, (p - (poly[j] + u * e)).norm());
-    if (e.x() * (p - poly[j]).y() - e.y() * (p - poly[j]).x() < 0)
-      inside = false;
-  }
-  return inside ? -d : d;
-}
-
 // A convex outline with its extent in the line's coordinates (t along the
 // line from its origin, s across it).
 struct Outline {
@@ -323,8 +309,10 @@ struct PredictedShadow {
   // Whether p, at line coordinates (t, s), is at least `d` outside the
   // predicted shadow.
   bool Outside(const Vector2d& p, double t, double s, double d) const {
-    return (shaft.Beyond(t, s, d) || SignedDistance(shaft.poly, p) >= d) &&
-           (cube.Beyond(t, s, d) || SignedDistance(cube.poly, p) >= d);
+    return (shaft.Beyond(t, s, d) ||
+            geometry::SignedDistanceToConvexPolygon(shaft.poly, p) >= d) &&
+           (cube.Beyond(t, s, d) ||
+            geometry::SignedDistanceToConvexPolygon(cube.poly, p) >= d);
   }
   // The predicted shadow's extent across the line at parameter t: [*lo,
   // *hi]; false if it misses there.

@@ -107,7 +107,7 @@ TEST(CliTest, FloorOptionIsCheckedTheSameEverywhere) {
   const std::string dir = Temp("floor");
   std::filesystem::create_directories(dir);
   std::ofstream(dir + "/text.png") << "not an image";
-  for (const std::string command :
+  for (const std::string& command :
        {"markers --out " + dir + "/m", "synth --frames 1 --out " + dir + "/s",
         "demo --frames 10 --idle-frames 1 --out " + dir + "/d",
         "bench tracking --frames 1 --sizes 64x48 --out " + dir + "/b"}) {
@@ -151,6 +151,28 @@ TEST(CliTest, SynthDrawsTheChosenFloor) {
 }  // namespace
 // The water's optics options: bad names and out-of-range values are one
 // line and exit code 2, before any work starts.
+TEST(CliTest, LightOptionIsChecked) {
+  const std::string dir = Temp("light");
+  for (const std::string& bad :
+       {std::string("--light 30"), std::string("--light 30,0"),
+        std::string("--light 30,95"), std::string("--light 400,45"),
+        std::string("--light a,45"), std::string("--light 30,45,1"),
+        std::string("--light 30,nan")}) {
+    const auto r =
+        RunRipple("demo --frames 10 --idle-frames 1 --out " + dir + " " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+        << r.output;
+    EXPECT_THAT(r.output, HasSubstr("--light")) << r.output;
+  }
+  EXPECT_FALSE(std::filesystem::exists(dir + "/demo.mp4"));
+  // A fixed light is used as given.
+  const auto r = RunRipple("demo --frames 10 --idle-frames 1 --out " + dir +
+                           " --light 140,55");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("light: azimuth 140.0, elevation 55.0 deg"));
+}
+
 TEST(CliTest, OpticsOptionsAreChecked) {
   const std::string dir = Temp("optics");
   for (const std::string& bad :

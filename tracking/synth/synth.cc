@@ -7,6 +7,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/polygon2d.h"
 #include "tracking/synth/raster.h"
 #include "tracking/tag_family.h"
 
@@ -105,21 +106,6 @@ double DiscCovered(double x) {
   return (std::acos(x) - x * std::sqrt(1 - x * x)) / M_PI;
 }
 
-// Distance from p to a counter-clockwise convex polygon, negative inside.
-double SignedDistance(const std::vector<Vector2d>& poly, const Vector2d& p) {
-  double d = 1e30;
-  bool inside = poly.size() >= 3;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Vector2d e = poly[i] - poly[j];
-    const double u = std::clamp(
-        (p - poly[j]).dot(e) / std::max(e.squaredNorm(), 1e-30), 0.0, 1.0);
-    d = std::min(d, (p - (poly[j] + u * e)).norm());
-    if (e.x() * (p - poly[j]).y() - e.y() * (p - poly[j]).x() < 0)
-      inside = false;
-  }
-  return inside ? -d : d;
-}
-
 // The pen's shadow on the board plane z = 0 under a distant light of angular
 // radius `radius_rad`. Works in the light's view: points are projected along
 // the light onto a plane perpendicular to it, where the shaft (the cylinder
@@ -192,11 +178,13 @@ class PenShadow {
         len2 > 0 ? std::clamp((q - axis_a_).dot(ab) / len2, 0.0, 1.0) : 0.0;
     const double s_shaft =
         std::max(0.0, depth_a_ + t * (depth_b_ - depth_a_) - depth);
-    const double hidden_shaft = DiscCovered(
-        SignedDistance(shaft_, q) / (s_shaft * tan_radius_ + footprint_m));
+    const double hidden_shaft =
+        DiscCovered(geometry::SignedDistanceToConvexPolygon(shaft_, q) /
+                    (s_shaft * tan_radius_ + footprint_m));
     const double s_cube = std::max(0.0, cube_depth_ - depth);
-    const double hidden_cube = DiscCovered(
-        SignedDistance(cube_, q) / (s_cube * tan_radius_ + footprint_m));
+    const double hidden_cube =
+        DiscCovered(geometry::SignedDistanceToConvexPolygon(cube_, q) /
+                    (s_cube * tan_radius_ + footprint_m));
     return std::max(hidden_shaft, hidden_cube);
   }
 

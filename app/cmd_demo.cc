@@ -144,8 +144,10 @@ int RunDemo(DemoArgs args) {
       "light: azimuth %.1f, elevation %.1f deg (%s); the synthetic lamp: "
       "%.1f, %.1f deg, %.1f deg apart\n",
       got.x(), got.y(),
-      light_from_shadow ? "from the pen's shadow" : "the default", truth.x(),
-      truth.y(),
+      light_from_shadow                   ? "from the pen's shadow"
+      : args.pipeline.options.fixed_light ? "as given"
+                                          : "the default",
+      truth.x(), truth.y(),
       std::acos(std::clamp(last_light.normalized().dot(lamp), -1.0, 1.0)) *
           180 / M_PI);
   if (!active.AppendCsv(args.out + "/timing.csv", "active", true, &error) ||

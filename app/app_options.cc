@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "app/app_floor.h"
+#include "app/app_sun.h"
 
 namespace ripple::app {
 
@@ -17,6 +18,14 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-caustics", args->no_caustics,
                 "Disable the caustics pass");
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
+  sub->add_option("--shadows", args->shadows,
+                  "Shadow map filter: pcf (4 bilinear taps; the default), "
+                  "gauss (Gaussian-weighted 3x3 taps, a smooth semi-soft "
+                  "edge) or hard (one tap, aliased)")
+      ->capture_default_str();
+  sub->add_option("--shadow-sigma", args->shadow_sigma_texels,
+                  "--shadows gauss: the Gaussian's standard deviation, shadow "
+                  "map texels, 0.5..4 (default 1.5)");
   sub->add_flag("--no-reflection", args->no_reflection, "Disable reflection");
   sub->add_flag("--no-refraction", args->no_refraction, "Disable refraction");
   sub->add_option("--water-look", args->water_look,
@@ -35,6 +44,14 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
                   "frame: azimuth from the board's +x towards +y, elevation "
                   "above the board")
       ->capture_default_str();
+  sub->add_option("--sun", args->sun,
+                  "The light from the sun: LAT,LON,DATETIME (degrees north "
+                  "and east; ISO 8601 with a zone, e.g. "
+                  "48.14,11.58,2026-06-21T12:00+02:00); not with --light");
+  sub->add_option("--north", args->north_deg,
+                  "With --sun: compass bearing of the board's +y axis, "
+                  "degrees clockwise from true north (default 0: +y north, "
+                  "+x east)");
   sub->add_flag("--no-occluders", args->no_occluders,
                 "Draw the water over everything: no clean plate of the "
                 "board, no hands or objects kept in front of the tank");
@@ -100,9 +117,36 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.occluders = !args->no_occluders;
+  if (!render::ParseShadowFilter(args->shadows, &o.renderer.shadow_filter)) {
+    if (error)
+      *error = "--shadows '" + args->shadows + "': use pcf, gauss or hard";
+    return false;
+  }
+  if (!std::isnan(args->shadow_sigma_texels)) {
+    if (!(args->shadow_sigma_texels >= 0.5 && args->shadow_sigma_texels <= 4)) {
+      if (error) *error = "--shadow-sigma must be in [0.5, 4] texels";
+      return false;
+    }
+    o.renderer.shadow_gauss_sigma_texels =
+        static_cast<float>(args->shadow_sigma_texels);
+  }
+  if (!args->sun.empty() && args->light != "auto") {
+    if (error) *error = "--sun and --light both set the light: give one";
+    return false;
+  }
+  if (!(args->north_deg >= -360 && args->north_deg <= 360)) {
+    if (error) *error = "--north must be in [-360, 360] degrees";
+    return false;
+  }
   if (args->light != "auto") {
     Eigen::Vector3d light;
     if (!ParseLightDirection(args->light, &light, error)) return false;
+    o.fixed_light = light;
+  }
+  if (!args->sun.empty()) {
+    Eigen::Vector3d light;
+    if (!SunLightInTank(args->sun, args->north_deg, &light, error))
+      return false;
     o.fixed_light = light;
   }
   o.renderer.timing = render::RendererOptions::Timing::kCpuFinish;

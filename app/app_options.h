@@ -28,6 +28,12 @@ struct PipelineArgs {
   std::string floor;           // --floor: the printed tank floor (app_floor.h)
   std::string light = "auto";  // --light auto | AZ,EL (degrees)
   bool no_occluders = false;
+  // --sun LAT,LON,DATETIME: the light from the sun's position (app_sun.h);
+  // --north: the bearing of the board's +y, degrees clockwise from north.
+  std::string sun;
+  double north_deg = 0;
+  std::string shadows = "pcf";                // --shadows pcf | gauss | hard
+  double shadow_sigma_texels = std::nan("");  // --shadow-sigma; NaN: default
 };
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.

@@ -36,6 +36,7 @@ struct RenderBenchArgs {
   std::vector<std::string> scenes;  // empty: all
   std::string export_dir;
   std::string water_look = "clear";
+  std::string shadows = "pcf";  // the real-time renderer's shadow filter
   int samples_per_pixel = 64;
   int light_paths_per_texel = 64;
   int sky_rays = 4;
@@ -91,6 +92,10 @@ struct SceneResult {
   // no occluder mask: the water over everything, the floor read from the
   // video wherever it is, the submerged shaft not drawn).
   double flip_pen_plain = -1, flip_hand_plain = -1;
+  // FLIP around the virtual shadows: the pixels that shadows on or off
+  // changes by more than 3 levels, grown by 6 px, inside the water; -1:
+  // none. Compares the shadow filters (--shadows) at their edges.
+  double flip_shadow = -1;
 };
 
 // The real objects as the pipeline sees them: a clean plate learned from
@@ -252,6 +257,10 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!render::ParseWaterLook(args.water_look, &look))
     return Fail(kExitBadInput,
                 "--water-look '" + args.water_look + "': use clear or pool");
+  render::ShadowFilter shadow_filter;
+  if (!render::ParseShadowFilter(args.shadows, &shadow_filter))
+    return Fail(kExitBadInput,
+                "--shadows '" + args.shadows + "': use pcf, gauss or hard");
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
@@ -277,6 +286,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   render::RendererOptions ro;
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
   ro.optics = render::WaterOptics::ForLook(look);
+  ro.shadow_filter = shadow_filter;
   const render::WaterOptics& optics = ro.optics;
 
   reference::ReferenceOptions refo;
@@ -294,7 +304,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
-         "flip_hand_without_mask,main_ms,caustics_ms,shadow_ms,reference_s\n";
+         "flip_hand_without_mask,flip_shadow,main_ms,caustics_ms,shadow_ms,"
+         "reference_s\n";
   std::printf(
       "mean LDR-FLIP inside the water, real-time against the "
       "reference (%dx%d, %d spp, %d light paths per texel)\n",
@@ -302,12 +313,13 @@ int RunBenchRender(const RenderBenchArgs& args) {
       refo.light_paths_per_texel);
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
-  std::printf(" | %6s | %6s %6s %6s %6s | %6s %6s %6s | %6s\n", "noise", "pen",
-              "hand", "pen", "hand", "main", "caust", "shadow", "ref_s");
+  std::printf(" | %6s | %6s %6s %6s %6s %6s | %6s %6s %6s | %6s\n", "noise",
+              "pen", "hand", "pen", "hand", "shadow", "main", "caust", "shadow",
+              "ref_s");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
-  std::printf(" | %6s | %6s %6s %6s %6s | %6s %6s %6s |\n", "floor", "FLIP",
-              "FLIP", "plain", "plain", "ms", "ms", "ms");
+  std::printf(" | %6s | %6s %6s %6s %6s %6s | %6s %6s %6s |\n", "floor", "FLIP",
+              "FLIP", "plain", "plain", "FLIP", "ms", "ms", "ms");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -432,6 +444,17 @@ int RunBenchRender(const RenderBenchArgs& args) {
       if (img.empty() || !bench::ComputeFlip(fo, reference, img, &m, &error))
         return Fail(kExitRuntime, "scene '" + s.name + "': effect run failed");
       res.flip_off[e] = bench::MeanFlip(m, mask);
+      if (kEffects[e].flag == &render::Effects::shadows) {
+        cv::Mat diff, window;
+        cv::absdiff(realtime, img, diff);
+        cv::transform(diff, window, cv::Matx13f(1, 1, 1));  // any channel
+        window = window > 3;
+        cv::dilate(window, window,
+                   cv::getStructuringElement(cv::MORPH_ELLIPSE, {13, 13}));
+        window &= mask;
+        if (cv::countNonZero(window) > 0)
+          res.flip_shadow = bench::MeanFlip(flip_map, window);
+      }
     }
     // Pass times: the surface changes every frame (its counter moves), so
     // the caustics and the main pass run each time; the pen (when there is
@@ -468,14 +491,15 @@ int RunBenchRender(const RenderBenchArgs& args) {
       return std::string(b);
     };
     std::printf(
-        " | %6.4f | %s %s %s %s | %6.2f %6.2f %6.2f | %6.1f\n", res.noise_floor,
-        window(res.flip_pen).c_str(), window(res.flip_hand).c_str(),
-        window(res.flip_pen_plain).c_str(), window(res.flip_hand_plain).c_str(),
+        " | %6.4f | %s %s %s %s %s | %6.2f %6.2f %6.2f | %6.1f\n",
+        res.noise_floor, window(res.flip_pen).c_str(),
+        window(res.flip_hand).c_str(), window(res.flip_pen_plain).c_str(),
+        window(res.flip_hand_plain).c_str(), window(res.flip_shadow).c_str(),
         res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
     csv << ',' << res.noise_floor << ',' << res.flip_pen << ',' << res.flip_hand
         << ',' << res.flip_pen_plain << ',' << res.flip_hand_plain << ','
-        << res.main_ms << ',' << res.caustics_ms << ',' << res.shadow_ms << ','
-        << res.reference_s << '\n';
+        << res.flip_shadow << ',' << res.main_ms << ',' << res.caustics_ms
+        << ',' << res.shadow_ms << ',' << res.reference_s << '\n';
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
@@ -529,6 +553,10 @@ CommandAction SetupBenchRender(CLI::App* sub) {
   sub->add_option("--water-look", args->water_look,
                   "The real-time renderer's optics: clear or pool (the "
                   "reference is always pure water)")
+      ->capture_default_str();
+  sub->add_option("--shadows", args->shadows,
+                  "The real-time renderer's shadow filter: pcf, gauss or "
+                  "hard (the reference's shadows are soft by construction)")
       ->capture_default_str();
   sub->add_option("--spp", args->samples_per_pixel,
                   "Reference samples per pixel")

@@ -145,7 +145,7 @@ int RunDemo(DemoArgs args) {
       "light: azimuth %.1f, elevation %.1f deg (%s); the synthetic lamp: "
       "%.1f, %.1f deg, %.1f deg apart\n",
       got.x(), got.y(),
-      light_fixed         ? "--light"
+      light_fixed         ? "as given"
       : light_from_shadow ? "from the pen's shadow"
                           : "the default",
       truth.x(), truth.y(),

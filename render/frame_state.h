@@ -43,7 +43,7 @@ struct HeightFieldInfo {
 struct ShadowTransform {
   glm::dmat4 shadow_from_tank{1.0};
   float bias = 0;         // depth units of the map
-  glm::vec2 texel{0.0f};  // PCF tap offset, texture units
+  glm::vec2 texel{0.0f};  // PCF / Gaussian tap offset, texture units
 };
 
 // Per-frame values, computed once by the renderer.

@@ -12,7 +12,7 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
   if (!BuildProgram(&solid_[0], "solid", "solid.vert", "solid.frag", "",
                     error) ||
       !BuildProgram(&solid_[1], "shadowed solid", "solid.vert", "solid.frag",
-                    "#define SHADOWS 1\n", error) ||
+                    "#define SHADOWS 1\n" + options.shadow_defines, error) ||
       !BuildProgram(&depth_, "depth", "solid.vert", "depth.frag", "", error)) {
     return false;
   }

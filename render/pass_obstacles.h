@@ -22,6 +22,8 @@ class ObstaclesPass {
     glm::vec3 albedo{0.80f, 0.76f, 0.70f};  // linear RGB
     // The output is sRGB-encoded: the refraction copy decodes it on fetch.
     bool srgb = true;
+    // ShadowFilterDefines of the renderer's filter (pass_shadow.h).
+    std::string shadow_defines;
   };
   bool Create(const Options& options, std::string* error);
   // (Re)allocates the refraction copy at the output's size.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "render/gl_state.h"
@@ -26,6 +27,32 @@ bool PoseMoved(const glm::dmat4& a, const glm::dmat4& b, double move_m,
 }
 
 }  // namespace
+
+std::string ShadowFilterDefines(ShadowFilter filter, float sigma_texels) {
+  switch (filter) {
+    case ShadowFilter::kPcf:
+      return "";
+    case ShadowFilter::kHard:
+      return "#define SHADOW_FILTER_HARD 1\n";
+    case ShadowFilter::kGauss: {
+      // The weight of a tap one spacing off the centre, relative to the
+      // centre's; the diagonal taps get its square (separable Gaussian).
+      const double h = GaussTapSpacingTexels(sigma_texels);
+      const double w = std::exp(-h * h / (2.0 * sigma_texels * sigma_texels));
+      char line[96];
+      std::snprintf(line, sizeof(line),
+                    "#define SHADOW_FILTER_GAUSS 1\n#define SHADOW_GAUSS_W1 "
+                    "%.6f\n",
+                    w);
+      return line;
+    }
+  }
+  return "";
+}
+
+double GaussTapSpacingTexels(float sigma_texels) {
+  return std::clamp(static_cast<double>(sigma_texels), 1.0, 2.0);
+}
 
 ShadowKey ShadowKey::Of(const SceneInputs& scene) {
   ShadowKey key;
@@ -105,18 +132,24 @@ ShadowTransform FitShadowFrustum(const TankGeometry& t, const glm::dvec3& l) {
 bool ShadowPass::Create(const Options& options, std::string* error) {
   options_ = options;
   if (!BuildProgram(&depth_, "depth", "solid.vert", "depth.frag", "", error) ||
-      !BuildProgram(&receiver_, "shadow_receiver", "fullscreen.vert",
-                    "shadow_receiver.frag", "", error)) {
+      !BuildProgram(
+          &receiver_, "shadow_receiver", "fullscreen.vert",
+          "shadow_receiver.frag",
+          ShadowFilterDefines(options.filter, options.gauss_sigma_texels),
+          error)) {
     return false;
   }
   depth_model_.Resolve(depth_);
   receiver_common_.Resolve(receiver_);
   empty_vao_.Create();
 
-  // Shadow map: 24-bit depth with hardware comparison (bilinear PCF).
+  // Shadow map: 24-bit depth with hardware comparison (bilinear PCF; the
+  // nearest texel for the hard filter).
   const int s = options.map_size;
   AllocTexture(&shadow_tex_, GL_DEPTH_COMPONENT24, s, s, GL_DEPTH_COMPONENT,
-               GL_UNSIGNED_INT, GL_LINEAR, GL_CLAMP_TO_EDGE);
+               GL_UNSIGNED_INT,
+               options.filter == ShadowFilter::kHard ? GL_NEAREST : GL_LINEAR,
+               GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE,
                   GL_COMPARE_REF_TO_TEXTURE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
@@ -151,6 +184,12 @@ bool ShadowPass::NeedsRedraw(const SceneInputs& scene) const {
 void ShadowPass::Draw(const FrameState& f, const SolidMeshes& solids) {
   const SceneInputs& scene = *f.scene;
   transform_ = FitShadowFrustum(scene.tank, f.light);
+  if (options_.filter == ShadowFilter::kGauss) {
+    // The Gaussian's taps are spaced in map texels, not metres.
+    transform_.texel = glm::vec2(
+        static_cast<float>(GaussTapSpacingTexels(options_.gauss_sigma_texels) /
+                           options_.map_size));
+  }
   const glm::dmat4 clip_from_shadow =
       glm::translate(glm::dmat4(1.0), glm::dvec3(-1.0)) *
       glm::scale(glm::dmat4(1.0), glm::dvec3(2.0));

@@ -20,6 +20,7 @@
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
 #include "render/meshes.h"
+#include "render/renderer.h"
 #include "render/scene.h"
 
 namespace ripple::render::internal {
@@ -42,6 +43,14 @@ struct ShadowKey {
                bool with_pen) const;
 };
 
+// The #defines that select `filter` in the programs calling Shadow()
+// (common.glsl): SHADOW_FILTER_GAUSS with its tap weight, SHADOW_FILTER_HARD,
+// nothing for PCF. `sigma_texels`: kGauss's standard deviation.
+std::string ShadowFilterDefines(ShadowFilter filter, float sigma_texels);
+// kGauss's tap spacing, map texels: clamp(sigma, 1, 2), so the taps'
+// bilinear footprints overlap (a smooth edge) and span 4x4 to 6x6 texels.
+double GaussTapSpacingTexels(float sigma_texels);
+
 // The orthographic light frame fitted to the tank box (receivers) with room
 // for casters up to a metre towards the light.
 ShadowTransform FitShadowFrustum(const TankGeometry& tank,
@@ -54,6 +63,8 @@ class ShadowPass {
     double move_threshold_m = 0.001;
     double turn_threshold_rad = 0.0087;
     bool pen = true;  // the pen casts (RendererOptions::pen_casts_shadow)
+    ShadowFilter filter = ShadowFilter::kPcf;
+    float gauss_sigma_texels = 1.5f;  // kGauss
   };
   bool Create(const Options& options, std::string* error);
 

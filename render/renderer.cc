@@ -35,6 +35,29 @@ double MsSince(Clock::time_point t0) {
 
 }  // namespace
 
+const char* ShadowFilterName(ShadowFilter filter) {
+  switch (filter) {
+    case ShadowFilter::kPcf:
+      return "pcf";
+    case ShadowFilter::kGauss:
+      return "gauss";
+    case ShadowFilter::kHard:
+      return "hard";
+  }
+  return "?";
+}
+
+bool ParseShadowFilter(const std::string& name, ShadowFilter* filter) {
+  for (ShadowFilter f :
+       {ShadowFilter::kPcf, ShadowFilter::kGauss, ShadowFilter::kHard}) {
+    if (name == ShadowFilterName(f)) {
+      *filter = f;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool RendererOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* m) {
     if (error) *error = m;
@@ -44,6 +67,8 @@ bool RendererOptions::IsValid(std::string* error) const {
     return fail("surface_grid must be in [2, 512]");
   if (shadow_map_size < 16 || shadow_map_size > 8192)
     return fail("shadow_map_size must be in [16, 8192]");
+  if (!(shadow_gauss_sigma_texels >= 0.5f && shadow_gauss_sigma_texels <= 4.f))
+    return fail("shadow_gauss_sigma_texels must be in [0.5, 4]");
   if (caustics_map_size < 8 || caustics_map_size > 4096)
     return fail("caustics_map_size must be in [8, 4096]");
   if (caustics_threads < 1) return fail("caustics_threads must be >= 1");
@@ -96,6 +121,8 @@ bool Renderer::Impl::Init(std::string* error) {
   shadow_options.move_threshold_m = o.shadow_move_threshold_m;
   shadow_options.turn_threshold_rad = o.shadow_turn_threshold_rad;
   shadow_options.pen = o.pen_casts_shadow;
+  shadow_options.filter = o.shadow_filter;
+  shadow_options.gauss_sigma_texels = o.shadow_gauss_sigma_texels;
   internal::CausticsPass::Options caustics_options;
   caustics_options.map_size = o.caustics_map_size;
   caustics_options.threads = o.caustics_threads;
@@ -104,8 +131,10 @@ bool Renderer::Impl::Init(std::string* error) {
   caustics_options.ior = o.optics.ior;
   caustics_options.glass_ior = o.optics.glass_ior;
   const bool srgb = o.video_transfer == Transfer::kSrgb;
-  const internal::ObstaclesPass::Options obstacles_options{o.obstacle_albedo,
-                                                           srgb};
+  const internal::ObstaclesPass::Options obstacles_options{
+      o.obstacle_albedo, srgb,
+      internal::ShadowFilterDefines(o.shadow_filter,
+                                    o.shadow_gauss_sigma_texels)};
   const internal::WaterPass::Options water_options{o.surface_grid, o.optics,
                                                    o.reflection_distance_m};
   const internal::WallsPass::Options walls_options{o.optics};

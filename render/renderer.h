@@ -44,11 +44,43 @@
 
 namespace ripple::render {
 
+// How the shadow map is filtered where a receiver looks it up (Shadow() in
+// render/shaders/common.glsl). Fixed per renderer: each is a compile-time
+// variant of the programs that sample the map (llvmpipe would run every
+// branch).
+enum class ShadowFilter {
+  // Percentage-closer filtering: 4 bilinear hardware-compared taps 1.2 mm
+  // apart on the tank's scale (about 3 map texels): a wide edge with a
+  // plateau of half light between the taps' two edges.
+  kPcf,
+  // Gaussian-filtered semi-soft shadow (after Kolivand & Sunar's Z-GaF:
+  // a Gaussian-weighted PCF): 3x3 bilinear hardware-compared taps spaced
+  // clamp(sigma, 1, 2) texels apart, weighted exp(-d^2 / (2 sigma^2)) and
+  // normalised, a 4x4 to 6x6-texel footprint with a smooth edge.
+  kGauss,
+  // One hardware-compared tap, nearest texel: the aliased hard edge.
+  kHard,
+};
+
+// "pcf", "gauss", "hard".
+const char* ShadowFilterName(ShadowFilter filter);
+// Parses a ShadowFilterName; false for anything else.
+bool ParseShadowFilter(const std::string& name, ShadowFilter* filter);
+
 struct RendererOptions {
   // Quads per side of the water mesh. llvmpipe spends ~0.5 us per triangle
   // per pass, so keep it coarse: detail comes from per-pixel normals.
   int surface_grid = 32;
-  int shadow_map_size = 512;    // texels per side
+  int shadow_map_size = 512;  // texels per side
+  ShadowFilter shadow_filter = ShadowFilter::kPcf;
+  // kGauss: the Gaussian's standard deviation, shadow map texels, in
+  // [0.5, 4]. A light disc of angular radius r seen from a receiver d metres
+  // below an occluder's edge spreads that edge with the standard deviation
+  // d r / 2 (the disc's one-dimensional marginal); for the default 2 degree
+  // disc and occluder edges 2-3 cm above the receivers that is 0.6-0.9 mm,
+  // 1.5-2.3 texels of the default 512^2 map over the 0.17 m tank's light
+  // frame (about 0.4 mm per texel).
+  float shadow_gauss_sigma_texels = 1.5f;
   int caustics_map_size = 256;  // texels per side, over the tank floor
   int caustics_threads = 2;     // CPU threads for the caustics map
   // The shadow map is redrawn only when an occluder moved relative to the

@@ -40,8 +40,15 @@ vec2 VideoUv(vec3 p_tank) {
   return (px + 0.5) / u_image_size;
 }
 
-// Percentage-closer filtering: 4 bilinear hardware-compared taps, i.e. a
-// 4x4-texel soft kernel. 1 = lit.
+// The shadow map's filter, a compile-time variant (RendererOptions::
+// shadow_filter; llvmpipe would run every branch). 1 = lit.
+//   default: percentage-closer filtering, 4 bilinear hardware-compared taps
+//     u_shadow_texel apart (1.2 mm on the tank's scale);
+//   SHADOW_FILTER_GAUSS: Gaussian-weighted PCF (after Kolivand & Sunar's
+//     Z-GaF): 3x3 bilinear hardware-compared taps u_shadow_texel apart,
+//     weighted 1, SHADOW_GAUSS_W1, SHADOW_GAUSS_W1^2 (centre, side, corner)
+//     and normalised;
+//   SHADOW_FILTER_HARD: one hardware-compared tap of the nearest texel.
 float Shadow(vec3 p_tank) {
   if (u_shadow_on < 0.5) return 1.0;
   vec3 s = (u_shadow_from_tank * vec4(p_tank, 1.0)).xyz;
@@ -49,11 +56,29 @@ float Shadow(vec3 p_tank) {
   if (any(lessThan(s.xy, vec2(0.0))) || any(greaterThan(s.xy, vec2(1.0))))
     return 1.0;
   vec2 o = u_shadow_texel;
+#if defined(SHADOW_FILTER_HARD)
+  return textureLod(u_shadow, s, 0.0);
+#elif defined(SHADOW_FILTER_GAUSS)
+  const float w1 = SHADOW_GAUSS_W1;
+  float centre = textureLod(u_shadow, s, 0.0);
+  float sides = textureLod(u_shadow, vec3(s.xy + vec2(-o.x, 0.0), s.z), 0.0) +
+                textureLod(u_shadow, vec3(s.xy + vec2(o.x, 0.0), s.z), 0.0) +
+                textureLod(u_shadow, vec3(s.xy + vec2(0.0, -o.y), s.z), 0.0) +
+                textureLod(u_shadow, vec3(s.xy + vec2(0.0, o.y), s.z), 0.0);
+  float corners =
+      textureLod(u_shadow, vec3(s.xy + vec2(-o.x, -o.y), s.z), 0.0) +
+      textureLod(u_shadow, vec3(s.xy + vec2(o.x, -o.y), s.z), 0.0) +
+      textureLod(u_shadow, vec3(s.xy + vec2(-o.x, o.y), s.z), 0.0) +
+      textureLod(u_shadow, vec3(s.xy + vec2(o.x, o.y), s.z), 0.0);
+  float norm = (1.0 + 2.0 * w1) * (1.0 + 2.0 * w1);
+  return (centre + w1 * sides + w1 * w1 * corners) / norm;
+#else
   float sum = textureLod(u_shadow, vec3(s.xy + vec2(-o.x, -o.y), s.z), 0.0) +
               textureLod(u_shadow, vec3(s.xy + vec2(o.x, -o.y), s.z), 0.0) +
               textureLod(u_shadow, vec3(s.xy + vec2(-o.x, o.y), s.z), 0.0) +
               textureLod(u_shadow, vec3(s.xy + vec2(o.x, o.y), s.z), 0.0);
   return 0.25 * sum;
+#endif
 }
 
 // Light reaching a floor point through the water: shadowed where the

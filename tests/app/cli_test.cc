@@ -178,7 +178,8 @@ TEST(CliTest, OpticsOptionsAreChecked) {
   for (const std::string& bad :
        {std::string("--water-look murky"), std::string("--ambient 1.5"),
         std::string("--ambient -0.1"), std::string("--light-size 0"),
-        std::string("--light-size 90")}) {
+        std::string("--light-size 90"), std::string("--shadows blur"),
+        std::string("--shadow-sigma 9")}) {
     const auto r =
         RunRipple("demo --frames 10 --idle-frames 1 --out " + dir + " " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
@@ -201,6 +202,30 @@ TEST(CliTest, OpticsOptionsAreChecked) {
                            dir + "/camera.yml");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("field 'transfer' must be srgb or linear"));
+}
+
+// --sun sets the light from the solar position; a sun below the horizon, a
+// bad place or time, --sun with --light, or a bearing out of range is one
+// line and exit 2.
+TEST(CliTest, SunOptionIsChecked) {
+  const std::string dir = Temp("sun_option");
+  for (const std::string& bad :
+       {std::string("--sun 48.14,11.58,2026-06-21T23:30+02:00"),
+        std::string("--sun 48.14,11.58"),
+        std::string("--sun 48.14,11.58,2026-06-21T12:00"),
+        std::string("--sun 95,11.58,2026-06-21T12:00Z"),
+        std::string("--sun 48.14,11.58,2026-06-21T12:00Z --light 30,60"),
+        std::string("--sun 48.14,11.58,2026-06-21T12:00Z --north 400")}) {
+    const auto r =
+        RunRipple("demo --frames 10 --idle-frames 1 --out " + dir + " " + bad);
+    EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1)
+        << r.output;
+  }
+  const auto r = RunRipple("demo --frames 10 --idle-frames 1 --out " + dir +
+                           " --sun 48.14,11.58,2026-06-21T23:30+02:00");
+  EXPECT_THAT(r.output, HasSubstr("below the horizon"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/demo.mp4"));
 }
 
 // `ripple bench render` end to end on small frames: one row per scene in
@@ -246,6 +271,10 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--water-look 'murky'"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad2"));
+  r = RunRipple("bench render --shadows blur --out " + dir + "/bad3");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--shadows 'blur'"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad3"));
 }
 
 // `ripple sun`: NREL SPA's worked example (azimuth 194.340, true elevation

@@ -46,7 +46,8 @@ struct Fixture {
 };
 
 std::unique_ptr<Fixture> Make(benchmark::State& state, Backend backend,
-                              bool distorted = false) {
+                              bool distorted = false,
+                              const RendererOptions& options = {}) {
   auto f = std::make_unique<Fixture>();
   std::string error;
   f->ctx = Context::TryCreate(backend, kW, kH, &error, false);
@@ -76,7 +77,7 @@ std::unique_ptr<Fixture> Make(benchmark::State& state, Backend backend,
   Obstacle pillar;
   pillar.tank_from_obstacle[3] = glm::dvec4(0.045, 0.015, 0.0, 1.0);
   f->scene.inputs.obstacles.push_back(pillar);
-  f->renderer = Renderer::TryCreate(f->ctx.get(), f->scene.k, {}, &error);
+  f->renderer = Renderer::TryCreate(f->ctx.get(), f->scene.k, options, &error);
   if (f->renderer == nullptr) {
     state.SkipWithError(error.c_str());
     return nullptr;
@@ -174,6 +175,46 @@ void BM_MainPassWithout(benchmark::State& state) {
 BENCHMARK(BM_MainPassWithout)
     ->ArgNames({"without"})
     ->DenseRange(kNothing, kWaterShading)
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+// Each shadow filter (RendererOptions::shadow_filter): the pillar moves a
+// millimetre every frame, so the shadow pass redraws each time; the
+// counters split the frame into the shadow pass (depth map and receiver
+// map, whose texels run the filter four times each) and the main pass (the
+// obstacle's own pixels run it once; the water and walls read the receiver
+// map), both wall times with glFinish.
+void BM_ShadowFilter(benchmark::State& state) {
+  RendererOptions options;
+  options.shadow_filter = static_cast<ShadowFilter>(state.range(0));
+  options.timing = RendererOptions::Timing::kCpuFinish;
+  auto f = Make(state, Backend::kEgl, false, options);
+  if (!f) return;
+  SceneInputs& in = f->scene.inputs;
+  in.effects.caustics = false;
+  f->renderer->Render(in);
+  f->renderer->Finish();
+  double shadow_ms = 0, main_ms = 0, frames = 0;
+  for (auto _ : state) {
+    in.water.change_counter++;
+    in.obstacles[0].tank_from_obstacle[3].x +=
+        (int(frames) % 2 ? -0.002 : 0.002);
+    f->renderer->Render(in);
+    f->renderer->Finish();
+    shadow_ms += f->renderer->timings().shadow_ms;
+    main_ms += f->renderer->timings().main_ms;
+    ++frames;
+  }
+  state.counters["shadow_ms"] = shadow_ms / frames;
+  state.counters["main_ms"] = main_ms / frames;
+  state.SetLabel(ShadowFilterName(options.shadow_filter));
+}
+BENCHMARK(BM_ShadowFilter)
+    ->ArgNames({"filter"})
+    ->Arg(int(ShadowFilter::kPcf))
+    ->Arg(int(ShadowFilter::kGauss))
+    ->Arg(int(ShadowFilter::kHard))
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

@@ -204,6 +204,17 @@ bool Pipeline::RemoveLastObstacle() {
 
 int Pipeline::num_obstacles() const { return water_->num_obstacles(); }
 
+void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
+                     const cv::Mat& pen_silhouette, cv::Mat* out) {
+  out->create(foreground.size(), CV_8U);
+  out->setTo(0);
+  if (window.area() <= 0) return;
+  cv::Mat w = (*out)(window);
+  foreground(window).copyTo(w);
+  if (!pen_silhouette.empty())
+    w.setTo(128, (pen_silhouette(window) != 0) & (w == 0));
+}
+
 void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                                  const tracking::FrameResult& tr) {
   scene_.occluders = {};
@@ -230,8 +241,9 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                  "learns the board without it\n");
     warned_design_ = true;
   }
-  const cv::Mat& mask = plate_->foreground();
   const cv::Rect w = plate_->foreground_window();
+  CombineRealMask(plate_->foreground(), w, exclude, &real_mask_);
+  const cv::Mat& mask = real_mask_;
   scene_.occluders.mask = mask.data;
   scene_.occluders.width = mask.cols;
   scene_.occluders.height = mask.rows;

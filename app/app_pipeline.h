@@ -66,6 +66,13 @@ struct FrameReport {
   bool rendered = false;  // false when the tank was not seen: video only
 };
 
+// The renderer's occluder mask (render/scene.h, OccluderMaskView): the clean
+// plate's foreground (255) over `window`, and the pen's silhouette (128)
+// where nothing is in front of it; `out` keeps the image's size and is
+// cleared outside `window`.
+void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
+                     const cv::Mat& pen_silhouette, cv::Mat* out);
+
 class Pipeline {
  public:
   // Builds tracker, water (with the rig's obstacles) and renderer; nullptr
@@ -111,6 +118,7 @@ class Pipeline {
   std::unique_ptr<tracking::CleanPlate> plate_;
   cv::Mat pen_mask_;  // the pen's silhouette, for the clean plate
   bool warned_design_ = false;
+  cv::Mat real_mask_;  // CombineRealMask's output, for the renderer
   // The light from the pen's shadow: estimated on a worker thread on copies
   // of every light_every_frames-th frame, held by the tracker.
   tracking::LightTracker light_tracker_;

@@ -16,6 +16,7 @@
 
 #include "app/app_bench.h"
 #include "app/app_common.h"
+#include "app/app_pipeline.h"
 #include "app/app_render_scenes.h"
 #include "app/app_wxh.h"
 #include "bench/flip.h"
@@ -104,6 +105,7 @@ struct SceneResult {
 // views of `in` (their storage in `plate`).
 void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
                  const cv::Mat& video, cv::Mat* pen_silhouette,
+                 cv::Mat* real_mask,
                  std::unique_ptr<tracking::CleanPlate>* plate,
                  render::SceneInputs* in) {
   const render::TankGeometry& t = rs.scene.tank;
@@ -130,8 +132,9 @@ void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
   for (int i = 0; i < 4; ++i)
     (*plate)->Process(clean, cam_from_tank, *pen_silhouette);
   (*plate)->Process(video, cam_from_tank, *pen_silhouette);
-  const cv::Mat& mask = (*plate)->foreground();
   const cv::Rect w = (*plate)->foreground_window();
+  CombineRealMask((*plate)->foreground(), w, *pen_silhouette, real_mask);
+  const cv::Mat& mask = *real_mask;
   in->occluders = {mask.data, mask.cols, mask.rows, static_cast<int>(mask.step),
                    glm::ivec4(w.x, w.y, w.width, w.height)};
   const cv::Mat& p = (*plate)->plate();
@@ -364,7 +367,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
     // With a pen or hands: the clean plate and occluder mask, as the
     // pipeline makes them (learned from hand-free frames).
     std::unique_ptr<tracking::CleanPlate> plate;
-    cv::Mat pen_silhouette;
+    cv::Mat pen_silhouette, real_mask;
     if (rs.scene.pen_visible || !rs.occluders.empty()) {
       cv::Mat clean = video;
       if (!rs.occluders.empty()) {
@@ -376,7 +379,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
           return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
         clean = reference::LinearToSrgb8(clean_linear);
       }
-      RealObjects(rs, clean, video, &pen_silhouette, &plate, &in);
+      RealObjects(rs, clean, video, &pen_silhouette, &real_mask, &plate, &in);
     }
     const cv::Mat realtime = RenderRealTime(renderer.get(), in);
     if (realtime.empty())

@@ -24,8 +24,8 @@ bool MirrorPass::Create(const Options& options, std::string* error) {
 bool MirrorPass::AllocateOutput(int width, int height) {
   out_width_ = width;
   out_height_ = height;
-  width_ = std::max(1, width / 2);
-  height_ = std::max(1, height / 2);
+  width_ = std::max(1, width / 4);
+  height_ = std::max(1, height / 4);
   glActiveTexture(GL_TEXTURE0 + kUnitMirror);
   AllocTexture(&color_, GL_RGBA8, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE,
                GL_LINEAR, GL_CLAMP_TO_EDGE);
@@ -41,7 +41,7 @@ bool MirrorPass::AllocateOutput(int width, int height) {
   return ok;
 }
 
-void MirrorPass::Draw(const FrameState& f, GLuint target,
+void MirrorPass::Draw(const FrameState& f, GLuint target, GLuint scene_copy,
                       const SolidMeshes& solids) {
   const SceneInputs& scene = *f.scene;
   const bool obstacles = !scene.obstacles.empty();
@@ -63,6 +63,8 @@ void MirrorPass::Draw(const FrameState& f, GLuint target,
       mirror[3][2] = 2.0 * scene.tank.water_level;
       const glm::dmat4 clip_from_tank = f.clip_from_tank * mirror;
       common_.Set(program_, f, f.clip_from_tank);
+      glActiveTexture(GL_TEXTURE0 + kUnitScene);
+      glBindTexture(GL_TEXTURE_2D, scene_copy);
       if (obstacles) {
         glUniform1f(u_is_pen_, 0.0f);
         solids.Draw(scene, model_, clip_from_tank, true, false);

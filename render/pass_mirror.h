@@ -3,10 +3,10 @@
 // live water (AR-VAST): the virtual obstacles (lit as the obstacles pass lights
 // them) and the real pen (its phantom, coloured from the video where the
 // camera sees the pen) mirrored in the rest plane of the water, into a
-// half-size premultiplied RGBA texture that the water reads in place of the
-// environment where it holds something. Alpha falls off with height above
-// the water (exp(-h / fade)); the water distorts the lookup by the surface
-// normal. Parts under the water are not mirrored.
+// quarter-size (each way) premultiplied RGBA texture that the water reads in
+// place of the environment where it holds something. Alpha falls off with
+// height above the water (exp(-h / fade)); the water distorts the lookup by the
+// surface normal. Parts under the water are not mirrored.
 //
 // Redraw key: none while it holds something (drawn every frame there are
 // obstacles or a pen); cleared once when they go.
@@ -30,10 +30,12 @@ class MirrorPass {
   bool Create(const Options& options, std::string* error);
   bool AllocateOutput(int width, int height);
 
-  // Draws the mirrored obstacles and pen (the scene copy bound on
-  // kUnitScene), then restores `target` and the viewport, and binds the
-  // result on kUnitMirror.
-  void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids);
+  // Draws the mirrored obstacles and pen, the pen coloured from
+  // `scene_copy` (the last frame's video: the pass runs before the main
+  // pass, which a target switch in its middle would flush), then restores
+  // `target` and the viewport, and binds the result on kUnitMirror.
+  void Draw(const FrameState& f, GLuint target, GLuint scene_copy,
+            const SolidMeshes& solids);
 
  private:
   Options options_;
@@ -44,7 +46,9 @@ class MirrorPass {
   Texture color_;
   Renderbuffer depth_;
   Framebuffer fbo_;
-  int width_ = 0, height_ = 0;  // the mirror's (half the output's)
+  int width_ = 0,
+      height_ = 0;  // the mirror's (a quarter of the output's each way: the
+                    // reflection is a few per cent, blurred by the waves)
   int out_width_ = 0, out_height_ = 0;
   bool dirty_ = true;  // holds something (or was never cleared)
 };

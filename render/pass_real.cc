@@ -66,8 +66,6 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
     state->pen_axis = glm::vec3(glm::normalize(face - tip));
     state->pen_length = g.shaft_length;
     state->pen_radius = g.shaft_radius;
-    state->pen_cube = glm::vec4(glm::vec3(m[3]),
-                                0.8660254f * g.cube_edge + scene.pen_margin_m);
     state->pen_margin = scene.pen_margin_m;
   }
   // The mask: this frame's window, and the last one to clear it.

@@ -28,12 +28,11 @@ struct RealObjectsState {
   glm::vec3 pen_axis{0.0f, 0.0f, 1.0f};  // ... towards the cube, unit
   float pen_length = 0;                  // tip to the cube's face, metres
   float pen_radius = 0;                  // shaft radius, metres
-  glm::vec4 pen_cube{0.0f};   // cube centre and bounding radius, metres
-  float pen_margin = 0;       // SceneInputs::pen_margin_m
-  bool mask = false;          // an occluder mask this frame
-  bool plate = false;         // a plate is uploaded
-  glm::vec4 plate_map{0.0f};  // uv = xy * map.xy + map.zw
-  float plate_gain = 1.0f;    // linear-light gain of the plate
+  float pen_margin = 0;                  // SceneInputs::pen_margin_m
+  bool mask = false;                     // an occluder mask this frame
+  bool plate = false;                    // a plate is uploaded
+  glm::vec4 plate_map{0.0f};             // uv = xy * map.xy + map.zw
+  float plate_gain = 1.0f;               // linear-light gain of the plate
   // True when the water must consider real objects at all.
   bool any() const { return pen || mask; }
 };

@@ -38,7 +38,6 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->pen_axis = p.Uniform("u_pen_axis");
   s->pen_length = p.Uniform("u_pen_length");
   s->pen_radius = p.Uniform("u_pen_radius");
-  s->pen_cube = p.Uniform("u_pen_cube");
   s->pen_margin = p.Uniform("u_pen_margin");
   s->plate_map = p.Uniform("u_plate_map");
   s->plate_gain = p.Uniform("u_plate_gain");
@@ -181,8 +180,6 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     SetUniform(shading.pen_axis, real.pen_axis);
     glUniform1f(shading.pen_length, real.pen_length);
     glUniform1f(shading.pen_radius, real.pen_radius);
-    glUniform4f(shading.pen_cube, real.pen_cube.x, real.pen_cube.y,
-                real.pen_cube.z, real.pen_cube.w);
     glUniform1f(shading.pen_margin, real.pen_margin);
     glUniform4f(shading.plate_map, real.plate_map.x, real.plate_map.y,
                 real.plate_map.z, real.plate_map.w);

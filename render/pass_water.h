@@ -59,8 +59,8 @@ class WaterPass {
           glint_peak = -1, inv_alpha2 = -1, return_tint = -1;
     // kRealObjects.
     GLint pen_on = -1, pen_tip = -1, pen_axis = -1, pen_length = -1,
-          pen_radius = -1, pen_cube = -1, pen_margin = -1, plate_map = -1,
-          plate_gain = -1, plate_on = -1;
+          pen_radius = -1, pen_margin = -1, plate_map = -1, plate_gain = -1,
+          plate_on = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

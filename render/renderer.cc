@@ -276,12 +276,15 @@ bool Renderer::Render(const SceneInputs& scene) {
 
   // The output, every frame.
   m.timer.Begin(PassTimer::kMain);
+  // The mirror first, into its own target: switching targets in the middle
+  // of the main pass makes llvmpipe flush it. The pen's colour comes from
+  // the last frame's scene copy (one frame old; the pen moves little).
+  m.mirror.Draw(f, m.target.fbo(), m.obstacles.scene_texture(), m.solids);
   m.video.Draw(m.k, m.target.fbo(), fx.reflection);
   m.target.BeginFrame(/*keep_color=*/m.video.have_video());
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
-  m.mirror.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video(), m.real_state);
   if (fx.walls) m.walls.Draw(f, m.walls_mesh, m.water.return_tint());
   m.timings.main_ms = m.timer.End(PassTimer::kMain);

@@ -32,12 +32,13 @@ struct HeightFieldView {
   std::uint64_t change_counter = 0;
 };
 
-// Pixels of the output image (ideal pinhole, top row first) where something
-// real stands in front of the virtual tank (a hand, a sleeve): nonzero bytes.
-// The water, the walls and the obstacles leave the video there, and the
-// water's refraction does not take them for the floor. Only the window
-// (x, y, w, h) is read; the mask is taken as zero outside it. Not owned;
-// read during Render(). Null: nothing real in front.
+// Pixels of the output image (ideal pinhole, top row first) where the video
+// shows something real in front of the board: 255 an occluder in front of
+// the virtual tank (a hand, a sleeve: the water, the walls and the obstacles
+// leave the video there), 128 the real pen's silhouette (its phantom decides
+// what hides it); the water's refraction takes neither for the floor. Only
+// the window (x, y, w, h) is read; the mask is taken as zero outside it. Not
+// owned; read during Render(). Null: nothing real in front.
 struct OccluderMaskView {
   const std::uint8_t* mask = nullptr;
   int width = 0, height = 0;  // the output's size

@@ -3,5 +3,6 @@
 // nothing virtual is drawn over them.
 uniform sampler2D u_mask;
 void main() {
-  if (texelFetch(u_mask, ivec2(gl_FragCoord.xy), 0).r < 0.5) discard;
+  // 1: an occluder; 0.5 (the pen's silhouette) only marks the video.
+  if (texelFetch(u_mask, ivec2(gl_FragCoord.xy), 0).r < 0.75) discard;
 }

@@ -24,7 +24,8 @@
 // above the surface (the real pen is dry and straight, so this draws the
 // "bent pen" at the waterline); a floor point whose line of sight from the
 // camera passes through the real pen or an occluder (the video shows them,
-// not the floor) takes the board from the clean plate.
+// not the floor: the occluder mask marks both) takes the board from the
+// clean plate.
 in vec3 v_ray;  // the pixel's viewing ray (water_deferred.vert)
 out vec4 o_color;
 uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
@@ -55,9 +56,8 @@ uniform vec3 u_pen_tip;      // shaft axis: tip ...
 uniform vec3 u_pen_axis;     // ... towards the cube (unit)
 uniform float u_pen_length;  // tip to the cube's face
 uniform float u_pen_radius;  // shaft
-uniform vec4 u_pen_cube;     // cube centre, bounding radius (grown)
 uniform float u_pen_margin;  // the video's pen may lie this far outside
-uniform sampler2D u_occluders;  // output pixels with something real in front
+uniform sampler2D u_occluders;  // 1: an occluder, 0.5: the pen (pass_real.h)
 uniform sampler2D u_plate;      // the board alone, tank frame
 uniform vec4 u_plate_map;       // uv = xy * map.xy + map.zw
 uniform float u_plate_gain;     // this frame's light over the plate's
@@ -79,20 +79,6 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
   return hit ? s : s_max;
 }
 
-// Whether the video's pixel of tank point q shows the real pen or an
-// occluder in front of q rather than q itself.
-bool RealInFront(vec3 q, vec2 q_uv) {
-  vec3 d = q - u_cam_in_tank;
-  float len = length(d);
-  d /= len;
-  bool shaft = ShaftHit(u_cam_in_tank, d, len, u_pen_radius + u_pen_margin) < len;
-  vec3 oc = u_pen_cube.xyz - u_cam_in_tank;
-  float along = dot(oc, d);
-  bool cube = u_pen_on > 0.5 && along > 0.0 && along < len &&
-              dot(oc, oc) - along * along < u_pen_cube.w * u_pen_cube.w;
-  bool occluded = textureLod(u_occluders, q_uv, 0.0).r > 0.5;
-  return shaft || cube || occluded;
-}
 #endif
 
 vec3 EnvLookup(vec3 p, vec3 r) {
@@ -150,23 +136,31 @@ void main() {
   vec3 lookup = on_floor ? f : (mirrored ? f + t2 * tf2 : beyond);
   th += mirrored ? tf2 : 0.0;
   f = on_floor || mirrored ? lookup : f;
+#ifdef REAL_OBJECTS
+  // The submerged shaft in the way: seen as the video shows the same line
+  // of the cylinder 4 mm above the surface (one fetch for either: the
+  // lookup point is chosen, not the colour), lit like an obstacle.
+  float s_pen = ShaftHit(p, t, th, u_pen_radius);
+  bool pen_hit = s_pen < th;
+  vec3 h = p + s_pen * t;
+  vec3 above =
+      h + u_pen_axis * ((u_tank.w + 0.004 - h.z) / max(u_pen_axis.z, 0.2));
+  lookup = pen_hit ? above : lookup;
+#endif
   vec2 lookup_uv = VideoUv(lookup);
   vec4 seen = textureLod(u_scene, lookup_uv, 0.0);
 #ifdef REAL_OBJECTS
-  // A board point (z = 0) the video does not show: the clean plate's
-  // board there (unknown texels keep the video).
-  if (seen.a > 0.5 && lookup.z < 1e-3 && u_plate_on > 0.5 &&
-      RealInFront(lookup, lookup_uv)) {
-    vec4 board = textureLod(u_plate, lookup.xy * u_plate_map.xy + u_plate_map.zw, 0.0);
+  // A board point (z = 0) the video does not show (the occluder mask: 1 an
+  // occluder, 0.5 the pen's silhouette): the clean plate's board there
+  // (unknown texels keep the video).
+  if (!pen_hit && seen.a > 0.5 && lookup.z < 1e-3 && u_plate_on > 0.5 &&
+      textureLod(u_occluders, lookup_uv, 0.0).r > 0.25) {
+    vec4 board =
+        textureLod(u_plate, lookup.xy * u_plate_map.xy + u_plate_map.zw, 0.0);
     seen.rgb = mix(seen.rgb, board.rgb * u_plate_gain, board.a);
   }
-  // The submerged shaft in the way: the video's shaft 4 mm above the
-  // surface along the same line of the cylinder, lit like an obstacle.
-  float s_pen = ShaftHit(p, t, th, u_pen_radius);
-  if (s_pen < th) {
-    vec3 h = p + s_pen * t;
-    vec3 above = h + u_pen_axis * ((u_tank.w + 0.004 - h.z) / max(u_pen_axis.z, 0.2));
-    seen = vec4(textureLod(u_scene, VideoUv(above), 0.0).rgb, 0.0);
+  if (pen_hit) {
+    seen.a = 0.0;
     th = s_pen;
     f = h;
     on_floor = true;

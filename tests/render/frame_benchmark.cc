@@ -144,6 +144,7 @@ enum Without : int {
   kObstacles,
   kVideoUpload,   // the video is uploaded once, not every frame
   kWaterShading,  // flat-colour water (mesh and stencil still drawn)
+  kRealObjects,   // no submerged pen or plate lookups in the water
 };
 void BM_MainPassWithout(benchmark::State& state) {
   const Without without = static_cast<Without>(state.range(0));
@@ -156,6 +157,7 @@ void BM_MainPassWithout(benchmark::State& state) {
   in.effects.walls = without != kWalls;
   in.effects.pen_occludes = without != kPenOcclusion;
   in.effects.flat_water = without == kWaterShading;
+  in.effects.real_objects = without != kRealObjects;
   if (without == kObstacles) in.obstacles.clear();
   f->renderer->Render(in);
   f->renderer->Finish();
@@ -174,7 +176,7 @@ void BM_MainPassWithout(benchmark::State& state) {
 }
 BENCHMARK(BM_MainPassWithout)
     ->ArgNames({"without"})
-    ->DenseRange(kNothing, kWaterShading)
+    ->DenseRange(kNothing, kRealObjects)
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

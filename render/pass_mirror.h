@@ -46,9 +46,9 @@ class MirrorPass {
   Texture color_;
   Renderbuffer depth_;
   Framebuffer fbo_;
-  int width_ = 0,
-      height_ = 0;  // the mirror's (a quarter of the output's each way: the
-                    // reflection is a few per cent, blurred by the waves)
+  // The mirror's size: a quarter of the output's each way (the reflection
+  // is a few per cent of the colour, blurred by the waves).
+  int width_ = 0, height_ = 0;
   int out_width_ = 0, out_height_ = 0;
   bool dirty_ = true;  // holds something (or was never cleared)
 };

@@ -223,10 +223,12 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
   const tracking::Pose& cam_from_tank = *tr.tank.cam_from_object;
   cv::Mat exclude;
   if (tr.pen.has_pose() && rig_.pen) {
-    // Grown by the phantom's margin at the pen's distance, and a pixel.
     const double depth =
         std::max(0.05, tr.pen.cam_from_object->translation.z());
-    const double grow_px = 1.0 + scene_.pen_margin_m * camera_.fx / depth;
+    // Grown as the renderer grows the pen's phantom: what the plate leaves
+    // out is exactly what the phantom decides (a wider silhouette left a
+    // ring of hand pixels to the water where a hand holds the pen).
+    const double grow_px = scene_.pen_margin_m * camera_.fx / depth;
     tracking::DrawPenSilhouette(camera_, *tr.pen.cam_from_object,
                                 rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
                                 rig_.pen->tip_in_pen, grow_px, &pen_mask_);

@@ -179,9 +179,10 @@ TEST_F(PipelineTest, HandsOverTheTankStayInFrontOfTheWater) {
   const double share = double(covered) / over_tank;
   std::printf("hand pixels over the tank covered by water: %.2f%% of %lld\n",
               100 * share, over_tank);
-  // Measured 4.9% (mostly hand pixels over the pen's own silhouette, which
-  // the plate leaves to the pen's phantom, and the hand's edge texels).
-  EXPECT_LT(share, 0.07);
+  // Measured 2.6%: mostly where the hand covers the pen's submerged part
+  // (the plate leaves the pen's silhouette to its phantom, which is behind
+  // the water there) and at the hand's edge.
+  EXPECT_LT(share, 0.04);
 }
 
 TEST_F(PipelineTest, TruncatedVideoExits1AndKeepsAPlayableOutput) {

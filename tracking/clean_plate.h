@@ -58,7 +58,7 @@
 namespace ripple::tracking {
 
 struct CleanPlateOptions {
-  double texel_m = 0.001;  // plate texel edge, metres
+  double texel_m = 0.0015;  // plate texel edge, metres
   // Board around the tank's inner outline that the plate covers, metres:
   // what the walls show of the board behind them (a 40 mm wall seen from
   // 30 degrees above the board shows 69 mm behind it).

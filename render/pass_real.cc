@@ -128,7 +128,8 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 }
 
-void RealObjectsPass::Draw(const FrameState& f, const RealObjectsState& state) {
+void RealObjectsPass::Draw(const FrameState& /*f*/,
+                           const RealObjectsState& state) {
   glActiveTexture(GL_TEXTURE0 + kUnitOccluders);
   glBindTexture(GL_TEXTURE_2D, mask_tex_.id());
   glActiveTexture(GL_TEXTURE0 + kUnitPlate);
@@ -145,7 +146,6 @@ void RealObjectsPass::Draw(const FrameState& f, const RealObjectsState& state) {
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glBindVertexArray(0);
   glDepthFunc(GL_LESS);
-  (void)f;
 }
 
 }  // namespace ripple::render::internal

@@ -233,9 +233,22 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                                 rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
                                 rig_.pen->tip_in_pen, grow_px, &pen_mask_);
     exclude = pen_mask_;
+    // The shaft alone (128), its lower half learning its colour (255): one
+    // colour, so a hand in front of it shows.
+    cv::Mat lower;
+    tracking::DrawPenSilhouette(camera_, *tr.pen.cam_from_object,
+                                rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
+                                rig_.pen->tip_in_pen, grow_px, &shaft_mask_,
+                                /*with_cube=*/false);
+    tracking::DrawPenSilhouette(camera_, *tr.pen.cam_from_object,
+                                rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
+                                rig_.pen->tip_in_pen, 0.0, &lower,
+                                /*with_cube=*/false, /*shaft_share=*/0.5);
+    shaft_mask_.setTo(128, shaft_mask_);
+    shaft_mask_.setTo(255, lower);
   }
-  const tracking::CleanPlateSummary& summary =
-      plate_->Process(bgr, cam_from_tank, exclude);
+  const tracking::CleanPlateSummary& summary = plate_->Process(
+      bgr, cam_from_tank, exclude, exclude.empty() ? cv::Mat() : shaft_mask_);
   if (plate_->design_dropped() && !warned_design_) {
     std::fprintf(stderr,
                  "ripple: warning: the printed board (--floor and the rig's "

@@ -116,7 +116,8 @@ class Pipeline {
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<tracking::CleanPlate> plate_;
-  cv::Mat pen_mask_;  // the pen's silhouette, for the clean plate
+  cv::Mat pen_mask_;    // the pen's silhouette, for the clean plate
+  cv::Mat shaft_mask_;  // its shaft alone
   bool warned_design_ = false;
   cv::Mat real_mask_;  // CombineRealMask's output, for the renderer
   // The light from the pen's shadow: estimated on a worker thread on copies

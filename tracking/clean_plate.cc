@@ -143,7 +143,8 @@ void CleanPlate::Undistort(const cv::Mat& bgr, const cv::Rect& window,
 
 const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
                                              const Pose& cam_from_tank,
-                                             const cv::Mat& exclude) {
+                                             const cv::Mat& exclude,
+                                             const cv::Mat& object) {
   summary_ = CleanPlateSummary();
   cv::Rect window =
       TankWindow(camera_, cam_from_tank, size_x_m_, size_y_m_, box_top_m_, 4);
@@ -307,6 +308,41 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
       summary_.foreground_px = cv::countNonZero(out);
     }
   }
+
+  // Around the known objects only (their bounding box, grown by the
+  // neighbourhoods below).
+  const cv::Rect window_rect(0, 0, window.width, window.height);
+  if (!object.empty() && object.size() == foreground_.size()) {
+    const cv::Rect box = cv::boundingRect(object(window));
+    const cv::Rect sub =
+        cv::Rect(box.x - 4, box.y - 4, box.width + 8, box.height + 8) &
+        window_rect;
+    if (box.area() > 0 && sub.area() > 0) {
+      cv::Mat out = foreground_(window)(sub);
+      ClassifyObject(frame(sub), object(window)(sub), &out);
+    }
+  }
+  // The plate's texels are coarser than the pixels, so the mask stops a
+  // pixel or two short of a known object it touches: the gap between the
+  // two is closed (a closing of mask and object together, the object
+  // itself left out).
+  if (!exclude_in_window.empty()) {
+    const cv::Rect box = cv::boundingRect(exclude_in_window);
+    const cv::Rect sub =
+        cv::Rect(box.x - 4, box.y - 4, box.width + 8, box.height + 8) &
+        window_rect;
+    if (box.area() > 0 && sub.area() > 0) {
+      cv::Mat out = foreground_(window)(sub);
+      const cv::Mat ex = exclude_in_window(sub);
+      cv::Mat both = out | ex;
+      cv::morphologyEx(both, both, cv::MORPH_CLOSE,
+                       cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
+      both.setTo(0, ex);
+      out |= both;
+    }
+  }
+  if (!exclude_in_window.empty())
+    summary_.foreground_px = cv::countNonZero(foreground_(window));
 
   // Texels at the mask and 2 around it (an occluder's blurred edge mixes
   // it with the board) only feed the challengers.
@@ -650,10 +686,76 @@ cv::Rect TankWindow(const Camera& camera, const Pose& cam_from_tank,
   return r & image;
 }
 
+void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
+                                cv::Mat* mask) {
+  // The object's pixels marked for learning (255), away from the mask (3 px:
+  // an occluder's blurred edge) and 2 px inside the object's own edge (the
+  // board's blur).
+  cv::Mat inner, near_mask;
+  cv::erode(object == 255, inner,
+            cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
+  cv::dilate(*mask, near_mask,
+             cv::getStructuringElement(cv::MORPH_RECT, {7, 7}));
+  // An occluder may cover the learning part (a hand over the shaft, which
+  // the plate's mask does not reach): the first colour is the median of
+  // the part away from the mask, later ones take only pixels the model
+  // already accepts.
+  const float t_high = static_cast<float>(options_.high_threshold);
+  auto accepted = [&](const cv::Vec3b& f) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(f[c] - object_colour_[c]) >
+          std::max(t_high, 4 * object_spread_[c]))
+        return false;
+    return true;
+  };
+  std::vector<float> samples[3];
+  for (int y = 0; y < frame.rows; ++y) {
+    const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
+    const std::uint8_t* in = inner.ptr(y);
+    const std::uint8_t* nm = near_mask.ptr(y);
+    for (int x = 0; x < frame.cols; ++x)
+      if (in[x] && !nm[x] && (object_frames_ == 0 || accepted(f[x])))
+        for (int c = 0; c < 3; ++c) samples[c].push_back(f[x][c]);
+  }
+  // Learn: median and spread (1.4826 median absolute deviations, a
+  // standard deviation for Gaussian noise) of this frame, blended in.
+  if (samples[0].size() >= 30) {
+    cv::Vec3f med, spread;
+    for (int c = 0; c < 3; ++c) {
+      std::vector<float>& v = samples[c];
+      auto mid = v.begin() + v.size() / 2;
+      std::nth_element(v.begin(), mid, v.end());
+      med[c] = *mid;
+      for (float& s : v) s = std::abs(s - med[c]);
+      std::nth_element(v.begin(), mid, v.end());
+      spread[c] = 1.4826f * *mid;
+    }
+    const float w = object_frames_ == 0 ? 1.0f : 0.2f;
+    object_colour_ += w * (med - object_colour_);
+    object_spread_ += w * (spread - object_spread_);
+    ++object_frames_;
+  }
+  if (object_frames_ == 0) return;
+  // Classify: the object's pixels far from its colour are in front of it.
+  for (int y = 0; y < frame.rows; ++y) {
+    const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
+    const std::uint8_t* ob = object.ptr(y);
+    std::uint8_t* m = mask->ptr(y);
+    for (int x = 0; x < frame.cols; ++x) {
+      if (!ob[x] || m[x]) continue;
+      float d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) -
+                            std::max(t_high, 4 * object_spread_[c]));
+      if (d > 0) m[x] = 255;
+    }
+  }
+}
+
 void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
                        double cube_edge_m, double shaft_radius_m,
                        const Eigen::Vector3d& tip_in_pen, double grow_px,
-                       cv::Mat* mask) {
+                       cv::Mat* mask, bool with_cube, double shaft_share) {
   mask->create(camera.height, camera.width, CV_8U);
   mask->setTo(0);
   auto project = [&](const Eigen::Vector3d& p_in_pen, cv::Point2f* px) {
@@ -680,9 +782,11 @@ void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
                     cv::LINE_8, 4);
     }
   };
-  // Shaft: rings at the tip and at the cube's -z face.
-  const Eigen::Vector3d top(0, 0, -0.5 * cube_edge_m);
-  const Eigen::Vector3d axis = (top - tip_in_pen).normalized();
+  // Shaft: rings at the tip and at the cube's -z face (or `shaft_share` of
+  // the way there).
+  const Eigen::Vector3d face(0, 0, -0.5 * cube_edge_m);
+  const Eigen::Vector3d top = tip_in_pen + shaft_share * (face - tip_in_pen);
+  const Eigen::Vector3d axis = (face - tip_in_pen).normalized();
   const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
   std::vector<cv::Point2f> shaft;
   for (int i = 0; i < 16; ++i) {
@@ -694,6 +798,7 @@ void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
     if (project(top + off, &p)) shaft.push_back(p);
   }
   fill(shaft);
+  if (!with_cube) return;
   std::vector<cv::Point2f> cube;
   const double h = 0.5 * cube_edge_m;
   for (int i = 0; i < 8; ++i) {

@@ -122,9 +122,18 @@ class CleanPlate {
   // empty): known objects' pixels, neither learned nor reported. The mask
   // covers the tank box's window (TankWindow, 4 px of margin). Returns the
   // summary; the mask is foreground().
+  //
+  // `object` (same layout, inside `exclude`, or empty): a known object of
+  // one colour (the pen's shaft): its colour is learned from its pixels
+  // marked 255 (where no hand is likely: the shaft's lower half) that no
+  // occluder is next to (per-channel median and spread, blended over
+  // frames); its pixels (any nonzero) that differ from that colour by more
+  // than max(high_threshold, 4 spreads) are occluders in front of it (a
+  // hand holding the pen), in the mask.
   const CleanPlateSummary& Process(const cv::Mat& bgr,
                                    const Pose& cam_from_tank,
-                                   const cv::Mat& exclude);
+                                   const cv::Mat& exclude,
+                                   const cv::Mat& object = cv::Mat());
 
   // CV_8U, the camera's size, ideal-pinhole pixels: 255 where something real
   // is in front of the board; 0 elsewhere and outside foreground_window().
@@ -199,6 +208,12 @@ class CleanPlate {
   cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
   cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
   cv::Rect window_;
+  // The known object's colour (8-bit levels) and spread; no model before
+  // `object_frames_` > 0.
+  cv::Vec3f object_colour_{0, 0, 0}, object_spread_{0, 0, 0};
+  int object_frames_ = 0;
+  void ClassifyObject(const cv::Mat& frame, const cv::Mat& object_in_window,
+                      cv::Mat* mask_in_window);
   double gain_ = 1.0;
   cv::Vec3f prior_gain_{1.0f, 1.0f, 1.0f};  // frame / design, per channel
   CleanPlateSummary summary_;
@@ -216,7 +231,8 @@ cv::Rect TankWindow(const Camera& camera, const Pose& cam_from_tank,
 void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
                        double cube_edge_m, double shaft_radius_m,
                        const Eigen::Vector3d& tip_in_pen, double grow_px,
-                       cv::Mat* mask);
+                       cv::Mat* mask, bool with_cube = true,
+                       double shaft_share = 1.0);
 
 }  // namespace ripple::tracking
 

@@ -18,7 +18,7 @@ namespace {
 struct Frames {
   Camera camera;
   Rig rig;
-  std::vector<cv::Mat> images, excludes;
+  std::vector<cv::Mat> images, excludes, shafts;
   std::vector<Pose> poses;
   std::vector<cv::Rect> windows;
 };
@@ -49,6 +49,21 @@ const Frames& GetFrames() {
                           f.rig.pen->cube_edge_m, f.rig.pen->shaft_radius_m,
                           f.rig.pen->tip_in_pen, 2.5, &mask);
       f.excludes.push_back(mask);
+      // The shaft (128) with its lower half (255), as the pipeline gives it.
+      cv::Mat shaft, lower;
+      if (s.scene.tank_from_pen) {
+        const Pose cam_from_pen =
+            s.scene.cam_from_tank * *s.scene.tank_from_pen;
+        DrawPenSilhouette(f.camera, cam_from_pen, f.rig.pen->cube_edge_m,
+                          f.rig.pen->shaft_radius_m, f.rig.pen->tip_in_pen, 2.5,
+                          &shaft, false);
+        DrawPenSilhouette(f.camera, cam_from_pen, f.rig.pen->cube_edge_m,
+                          f.rig.pen->shaft_radius_m, f.rig.pen->tip_in_pen, 0.0,
+                          &lower, false, 0.5);
+        shaft.setTo(128, shaft);
+        shaft.setTo(255, lower);
+      }
+      f.shafts.push_back(shaft);
       f.poses.push_back(s.scene.cam_from_tank);
       f.windows.push_back(TankWindow(f.camera, s.scene.cam_from_tank,
                                      f.rig.tank.size_x_m, f.rig.tank.size_y_m,
@@ -73,8 +88,8 @@ void BM_CleanPlateProcess(benchmark::State& state) {
   double texels = 0;
   for (auto _ : state) {
     const size_t k = i++ % f.images.size();
-    texels +=
-        plate.Process(f.images[k], f.poses[k], f.excludes[k]).visited_texels;
+    texels += plate.Process(f.images[k], f.poses[k], f.excludes[k], f.shafts[k])
+                  .visited_texels;
   }
   state.counters["texels"] = texels / std::max<size_t>(i, 1);
   state.counters["window_px"] = f.windows[0].area();

@@ -16,7 +16,7 @@
 // global gain (the camera's exposure and white balance drift; the gain of each
 // frame is the median ratio of frame to plate over the board).
 //
-// Per frame, on the plate texels a window around the tank sees:
+// Per frame, on the plate texels the tank's box hides from the camera:
 //   1. the frame (undistorted to the ideal pinhole, the renderer's output)
 //      is warped onto the plate by the board's homography;
 //   2. a texel differs when its colour lies off the segment between the
@@ -32,7 +32,11 @@
 //      dropped and the mask is closed by one texel;
 //   4. the mask is warped back into the window (ideal-pinhole pixels) and
 //      grown by `grow_px`;
-//   5. the plate learns from the frame, except where `exclude` says a known
+//   5. a known object of one colour (the pen's shaft, `object`) has a
+//      colour model of its own; its pixels far from it are occluders in
+//      front of it (a hand holding the pen), and the gap the coarse texels
+//      leave between the mask and the object is closed;
+//   6. the plate learns from the frame, except where `exclude` says a known
 //      object is (the pen) and next to the mask.
 // The printed board is known (`SetBoardPrior`: the sheet's design as the
 // frame would show it under white light): where the plate has not learned a

@@ -230,28 +230,23 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   cv::Mat frame;
   Undistort(bgr, window, &frame);
   // The frame on the plate, with alpha: 255 seen, 0 outside the window
-  // or on a known object.
+  // or on a known object (cleared only inside the object's bounding box).
   cv::Mat exclude_in_window;
   if (!exclude.empty()) exclude_in_window = exclude(window);
-  cv::warpPerspective(frame, frame_bgra_, window_from_roi, roi.size(),
-                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
-  if (exclude_in_window.empty()) {
-    valid_window_.create(window.size(), CV_8U);
-    valid_window_.setTo(255);
-  } else {
-    cv::bitwise_not(exclude_in_window, valid_window_);
+  cv::cvtColor(frame, frame_bgra_, cv::COLOR_BGR2BGRA);
+  if (!exclude_in_window.empty()) {
+    const cv::Rect box = cv::boundingRect(exclude_in_window);
+    for (int y = box.y; y < box.y + box.height; ++y) {
+      const std::uint8_t* ex = exclude_in_window.ptr(y);
+      cv::Vec4b* f = frame_bgra_.ptr<cv::Vec4b>(y);
+      for (int x = box.x; x < box.x + box.width; ++x)
+        if (ex[x]) f[x][3] = 0;
+    }
   }
-  cv::warpPerspective(valid_window_, valid_, window_from_roi, roi.size(),
-                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
-                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
   cv::Mat& seen = seen_;
-  {
-    const cv::Mat parts[2] = {frame_bgra_, valid_};
-    const int from_to[8] = {0, 0, 1, 1, 2, 2, 3, 3};
-    seen.create(roi.size(), CV_8UC4);
-    cv::mixChannels(parts, 2, &seen, 1, from_to, 4);
-  }
+  cv::warpPerspective(frame_bgra_, seen, window_from_roi, roi.size(),
+                      cv::INTER_LINEAR | cv::WARP_INVERSE_MAP,
+                      cv::BORDER_CONSTANT, cv::Scalar::all(0));
   // Within 2 texels of a known object (its blurred edge) or outside the
   // view, texels are judged but not learned: alpha 128.
   const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});

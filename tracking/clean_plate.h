@@ -207,8 +207,7 @@ class CleanPlate {
   cv::Mat undistort_x_, undistort_y_;
   cv::Mat foreground_;
   // Per-frame buffers, kept so that frames do not reallocate them.
-  cv::Mat frame_bgra_, valid_window_, valid_, grown_, seen_, mask_, in_window_,
-      near_fg_;
+  cv::Mat frame_bgra_, grown_, seen_, mask_, in_window_, near_fg_;
   cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
   cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
   cv::Rect window_;

@@ -97,6 +97,7 @@ void CleanPlate::Reset() {
   plate_bgra_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8UC4);
   foreground_.setTo(0);
   plate_foreground_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8U);
+  last_roi_ = cv::Rect();
   window_ = cv::Rect();
   gain_ = 1.0;
   ++plate_counter_;
@@ -154,6 +155,7 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   window_ = cv::Rect();
   auto give_up = [&]() -> const CleanPlateSummary& {
     plate_foreground_.setTo(0);
+    last_roi_ = cv::Rect();
     return summary_;
   };
   if (bgr.type() != CV_8UC3 || bgr.cols != camera_.width ||
@@ -234,8 +236,11 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   cv::Mat exclude_in_window;
   if (!exclude.empty()) exclude_in_window = exclude(window);
   cv::cvtColor(frame, frame_bgra_, cv::COLOR_BGR2BGRA);
-  if (!exclude_in_window.empty()) {
-    const cv::Rect box = cv::boundingRect(exclude_in_window);
+  const cv::Rect exclude_box = exclude_in_window.empty()
+                                   ? cv::Rect()
+                                   : cv::boundingRect(exclude_in_window);
+  if (exclude_box.area() > 0) {
+    const cv::Rect& box = exclude_box;
     for (int y = box.y; y < box.y + box.height; ++y) {
       const std::uint8_t* ex = exclude_in_window.ptr(y);
       cv::Vec4b* f = frame_bgra_.ptr<cv::Vec4b>(y);
@@ -321,8 +326,8 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   // pixel or two short of a known object it touches: the gap between the
   // two is closed (a closing of mask and object together, the object
   // itself left out).
-  if (!exclude_in_window.empty()) {
-    const cv::Rect box = cv::boundingRect(exclude_in_window);
+  if (exclude_box.area() > 0) {
+    const cv::Rect& box = exclude_box;
     const cv::Rect sub =
         cv::Rect(box.x - 4, box.y - 4, box.width + 8, box.height + 8) &
         window_rect;
@@ -350,8 +355,9 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
       if (m[i] && o[i][3] >= 250) o[i][3] = 128;
   }
   Learn(seen, roi);
-  plate_foreground_.setTo(0);
+  if (last_roi_.area() > 0) plate_foreground_(last_roi_).setTo(0);
   mask.copyTo(plate_foreground_(roi));
+  last_roi_ = roi;
   summary_.gain = gain_;
   return summary_;
 }

@@ -210,6 +210,7 @@ class CleanPlate {
   cv::Mat frame_bgra_, grown_, seen_, mask_, in_window_, near_fg_;
   cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
   cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
+  cv::Rect last_roi_;         // where plate_foreground_ may be nonzero
   cv::Rect window_;
   // The known object's colour (8-bit levels) and spread; no model before
   // `object_frames_` > 0.

@@ -120,7 +120,6 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
     const synth::RenderedFrame r =
         renderer.Render(f.scene, f.imaging, f.noise_seed);
     const cv::Mat exclude = PenMask(camera, rig, f.scene);
-    const cv::Rect window = Window(camera, rig, f.scene.cam_from_tank);
     plate.Process(r.image, f.scene.cam_from_tank, exclude);
     // A cut (a new segment) moves the camera, not the board: the plate
     // carries over. Scoring starts after the first few frames of learning.

@@ -208,28 +208,6 @@ Vector2d ShadowOf(const Vector3d& x, const Vector3d& l) {
   return x.head<2>() - (x.z() / l.z()) * l.head<2>();
 }
 
-std::vector<Vector2d> ConvexHull(std::vector<Vector2d> pts) {
-  std::sort(pts.begin(), pts.end(), [](const Vector2d& a, const Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (pts.size() < 3) return pts;
-  auto cross = [](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  std::vector<Vector2d> hull(2 * pts.size());
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
 // Parameter interval [*lo, *hi] of the line p + s d inside a counter-
 // clockwise convex polygon (Cyrus-Beck); false if it misses.
 bool ClipLine(const std::vector<Vector2d>& poly, const Vector2d& p,
@@ -364,10 +342,10 @@ bool Predict(const PenInTank& pen, const Vector3d& l, double tan_light,
     rims.push_back(ShadowOf(pen.base_rim[k], l));
     s->band_t1 = std::min(s->band_t1, (rims.back() - s->start).dot(s->u));
   }
-  rims = ConvexHull(std::move(rims));
+  rims = geometry::ConvexHull(std::move(rims));
   s->cube.poly.clear();
   for (const Vector3d& c : pen.corners) s->cube.poly.push_back(ShadowOf(c, l));
-  s->cube.poly = ConvexHull(std::move(s->cube.poly));
+  s->cube.poly = geometry::ConvexHull(std::move(s->cube.poly));
   s->shaft.Bound(s->start, s->u, s->perp);
   s->cube.Bound(s->start, s->u, s->perp);
   double lo, hi;

@@ -64,28 +64,6 @@ float BoardShade(double x, double y) {
                             0.25 * std::min(1.0, (dx * dx + dy * dy) / 0.16));
 }
 
-std::vector<Vector2d> ConvexHull(std::vector<Vector2d> pts) {
-  std::sort(pts.begin(), pts.end(), [](const Vector2d& a, const Vector2d& b) {
-    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
-  });
-  if (pts.size() < 3) return pts;
-  std::vector<Vector2d> hull(2 * pts.size());
-  auto cross = [](const Vector2d& o, const Vector2d& a, const Vector2d& b) {
-    return (a - o).x() * (b - o).y() - (a - o).y() * (b - o).x();
-  };
-  size_t k = 0;
-  for (size_t i = 0; i < pts.size(); ++i) {
-    while (k >= 2 && cross(hull[k - 2], hull[k - 1], pts[i]) <= 0) --k;
-    hull[k++] = pts[i];
-  }
-  for (size_t i = pts.size() - 1, t = k + 1; i > 0; --i) {
-    while (k >= t && cross(hull[k - 2], hull[k - 1], pts[i - 1]) <= 0) --k;
-    hull[k++] = pts[i - 1];
-  }
-  hull.resize(k - 1);
-  return hull;
-}
-
 bool PointInPolygon(const std::vector<Vector2d>& poly, const Vector2d& p) {
   bool inside = false;
   for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
@@ -143,7 +121,7 @@ class PenShadow {
       rims.push_back(View(a + off));
       rims.push_back(View(b + off));
     }
-    shaft_ = ConvexHull(std::move(rims));
+    shaft_ = geometry::ConvexHull(std::move(rims));
     const double h = 0.5 * pen.cube_edge_m;
     std::vector<Vector2d> corners;
     for (int i = 0; i < 8; ++i) {
@@ -152,7 +130,7 @@ class PenShadow {
           Vector3d(i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h);
       corners.push_back(View(c));
     }
-    cube_ = ConvexHull(std::move(corners));
+    cube_ = geometry::ConvexHull(std::move(corners));
     cube_depth_ = light_.dot(tank_from_pen.translation);
     top_depth_ = std::max({depth_a_, depth_b_, cube_depth_ + 2 * h});
     box_ = Eigen::AlignedBox2d(shaft_.front());
@@ -386,7 +364,7 @@ bool ShaftOutline(const tracking::Camera& cam, const tracking::PenSpec& pen,
       pts.push_back(cam.Project(p));
     }
   }
-  *hull = ConvexHull(std::move(pts));
+  *hull = geometry::ConvexHull(std::move(pts));
   return true;
 }
 
@@ -691,7 +669,7 @@ void SceneRenderer::VisibleTags(const SceneState& scene,
       ok = p.z() > 1e-4;
       if (ok) pts.push_back(camera_.Project(p));
     }
-    if (ok) blockers.push_back({ConvexHull(pts), false, true, false});
+    if (ok) blockers.push_back({geometry::ConvexHull(pts), false, true, false});
   }
   for (const Occluder& o : scene.occluders) {
     std::vector<Vector3d> pts;
@@ -777,7 +755,7 @@ void SceneRenderer::OccluderCoverage(const SceneState& scene, cv::Mat* hands,
       ok = p.z() > 1e-4;
       if (ok) pts.push_back(camera_.Project(p));
     }
-    if (ok) paint(ConvexHull(pts), pen);
+    if (ok) paint(geometry::ConvexHull(pts), pen);
   }
   // Hands are drawn in front of the pen.
   *pen = pen->mul(1.0f - *hands);

@@ -215,6 +215,23 @@ void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
     w.setTo(128, (pen_silhouette(window) != 0) & (w == 0));
 }
 
+void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
+                        render::SceneInputs* scene) {
+  const cv::Rect w = plate.foreground_window();
+  scene->occluders = {mask.data, mask.cols, mask.rows,
+                      static_cast<int>(mask.step),
+                      glm::ivec4(w.x, w.y, w.width, w.height)};
+  const cv::Mat& p = plate.plate();
+  scene->plate = {p.data,
+                  p.cols,
+                  p.rows,
+                  static_cast<int>(p.step),
+                  {plate.plate_origin_m().x, plate.plate_origin_m().y},
+                  plate.texel_m(),
+                  static_cast<float>(plate.summary().gain),
+                  plate.plate_counter()};
+}
+
 void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                                  const tracking::FrameResult& tr) {
   scene_.occluders = {};
@@ -247,8 +264,8 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
     shaft_mask_.setTo(128, shaft_mask_);
     shaft_mask_.setTo(255, lower);
   }
-  const tracking::CleanPlateSummary& summary = plate_->Process(
-      bgr, cam_from_tank, exclude, exclude.empty() ? cv::Mat() : shaft_mask_);
+  plate_->Process(bgr, cam_from_tank, exclude,
+                  exclude.empty() ? cv::Mat() : shaft_mask_);
   if (plate_->design_dropped() && !warned_design_) {
     std::fprintf(stderr,
                  "ripple: warning: the printed board (--floor and the rig's "
@@ -256,24 +273,9 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
                  "learns the board without it\n");
     warned_design_ = true;
   }
-  const cv::Rect w = plate_->foreground_window();
-  CombineRealMask(plate_->foreground(), w, exclude, &real_mask_);
-  const cv::Mat& mask = real_mask_;
-  scene_.occluders.mask = mask.data;
-  scene_.occluders.width = mask.cols;
-  scene_.occluders.height = mask.rows;
-  scene_.occluders.stride_bytes = static_cast<int>(mask.step);
-  scene_.occluders.window = glm::ivec4(w.x, w.y, w.width, w.height);
-  const cv::Mat& plate = plate_->plate();
-  scene_.plate.bgra = plate.data;
-  scene_.plate.width = plate.cols;
-  scene_.plate.height = plate.rows;
-  scene_.plate.stride_bytes = static_cast<int>(plate.step);
-  scene_.plate.corner_m = {plate_->plate_origin_m().x,
-                           plate_->plate_origin_m().y};
-  scene_.plate.texel_m = plate_->texel_m();
-  scene_.plate.gain = static_cast<float>(summary.gain);
-  scene_.plate.change_counter = plate_->plate_counter();
+  CombineRealMask(plate_->foreground(), plate_->foreground_window(), exclude,
+                  &real_mask_);
+  SetRealObjectViews(*plate_, real_mask_, &scene_);
 }
 
 void Pipeline::UpdateSceneObstacles() {

@@ -132,20 +132,9 @@ void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
   for (int i = 0; i < 4; ++i)
     (*plate)->Process(clean, cam_from_tank, *pen_silhouette);
   (*plate)->Process(video, cam_from_tank, *pen_silhouette);
-  const cv::Rect w = (*plate)->foreground_window();
-  CombineRealMask((*plate)->foreground(), w, *pen_silhouette, real_mask);
-  const cv::Mat& mask = *real_mask;
-  in->occluders = {mask.data, mask.cols, mask.rows, static_cast<int>(mask.step),
-                   glm::ivec4(w.x, w.y, w.width, w.height)};
-  const cv::Mat& p = (*plate)->plate();
-  in->plate = {p.data,
-               p.cols,
-               p.rows,
-               static_cast<int>(p.step),
-               {(*plate)->plate_origin_m().x, (*plate)->plate_origin_m().y},
-               (*plate)->texel_m(),
-               static_cast<float>((*plate)->summary().gain),
-               (*plate)->plate_counter()};
+  CombineRealMask((*plate)->foreground(), (*plate)->foreground_window(),
+                  *pen_silhouette, real_mask);
+  SetRealObjectViews(**plate, *real_mask, in);
 }
 
 cv::Mat RenderRealTime(render::Renderer* r, const render::SceneInputs& in) {

@@ -39,8 +39,9 @@ struct CalibArgs {
   std::string target;
   int min_views = -1;  // -1: the command's default
   double max_edge_width = 3.5;
-  bool k3 = false;
-  bool rational = false;
+  std::string distortion = "auto";
+  bool k3 = false;        // --k3: --distortion k1k2k3
+  bool rational = false;  // --rational: --distortion rational
   // rig
   std::string object = "auto";
   int reference = -1;
@@ -116,6 +117,16 @@ int RunCalibCamera(const CalibArgs& args) {
   if (!args.chessboard.empty() && !args.target.empty())
     return Fail(kExitBadInput,
                 "give either --chessboard or --target, not both");
+  calib::DistortionModel distortion =
+      *calib::ParseDistortionModel(args.distortion);  // checked by CLI11
+  if (args.k3 || args.rational) {
+    if (distortion != calib::DistortionModel::kAuto ||
+        (args.k3 && args.rational))
+      return Fail(kExitBadInput,
+                  "give one of --distortion, --k3 and --rational");
+    distortion = args.k3 ? calib::DistortionModel::kK1K2K3
+                         : calib::DistortionModel::kRational;
+  }
   int cols = 9, rows = 6;
   std::optional<tracking::Rig> target;
   std::unique_ptr<tracking::TagDetector> detector;
@@ -177,8 +188,7 @@ int RunCalibCamera(const CalibArgs& args) {
   calib::CameraCalibOptions options;
   if (args.min_views > 0) options.min_views = args.min_views;
   options.max_views = std::max(options.max_views, options.min_views);
-  options.fix_k3 = !args.k3;
-  options.rational = args.rational;
+  options.distortion = distortion;
   tracking::Camera camera;
   calib::CameraCalibSummary summary;
   if (!calib::CalibrateCamera(options, selector->accepted(), size.width,
@@ -187,15 +197,25 @@ int RunCalibCamera(const CalibArgs& args) {
   std::printf("%s", summary.BriefReport().c_str());
   std::printf(
       "fx %.2f fy %.2f cx %.2f cy %.2f; k1 %.4f k2 %.4f p1 %.5f p2 "
-      "%.5f k3 %.4f\n",
+      "%.5f k3 %.4f",
       camera.fx, camera.fy, camera.cx, camera.cy, camera.dist[0],
       camera.dist[1], camera.dist[2], camera.dist[3], camera.dist[4]);
+  if (summary.model == calib::DistortionModel::kRational)
+    std::printf(" k4 %.4f k5 %.4f k6 %.4f", camera.dist[5], camera.dist[6],
+                camera.dist[7]);
+  std::printf("\n");
   if (summary.grid_coverage < 0.5)
     std::printf(
         "warning: the views cover only %.0f %% of the image; move the "
         "target into the corners for a better lens model\n",
         100 * summary.grid_coverage);
-  if (!calib::SaveCameraAtomically(camera, args.out, &error))
+  // The file says how its model was chosen; the report's lines, minus the
+  // trailing newline, become its comment.
+  std::string comment =
+      "ripple calib camera: " + std::to_string(summary.views) + " views, RMS " +
+      std::to_string(summary.rms_px) + " px\n" + summary.ModelReport();
+  comment.pop_back();
+  if (!calib::SaveCameraAtomically(camera, args.out, &error, comment))
     return Fail(kExitRuntime, error);
   std::printf("camera -> %s\n", args.out.c_str());
   return kExitOk;
@@ -425,9 +445,16 @@ CommandAction SetupCalib(CLI::App* sub) {
                    "pixels)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
-  camera->add_flag("--k3", args->k3, "Also fit k3");
+  camera
+      ->add_option("--distortion", args->distortion,
+                   "Lens distortion model: auto (chosen by cross-validation "
+                   "over views), k1k2 (k1 k2 p1 p2), k1k2k3 (and k3), "
+                   "rational (k1..k6 p1 p2)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "k1k2", "k1k2k3", "rational"}));
+  camera->add_flag("--k3", args->k3, "The same as --distortion k1k2k3");
   camera->add_flag("--rational", args->rational,
-                   "Rational model k1..k6 (wide-angle lenses)");
+                   "The same as --distortion rational");
 
   CLI::App* rig = sub->add_subcommand(
       "rig", "Bundle adjustment of the cube faces or board tags");

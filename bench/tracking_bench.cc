@@ -16,10 +16,8 @@ namespace ripple::bench {
 namespace {
 
 using tracking::Pose;
-constexpr double kDeg = M_PI / 180.0;
 
-// The benchmark's percentiles: rounded rank, NaN for an empty sample (a
-// quantity never measured prints as nan).
+// Run-time percentiles as the error table's: rounded rank, NaN when empty.
 double Pct(const std::vector<double>& v, double p) {
   PercentileOptions options;
   options.rank = PercentileOptions::Rank::kRounded;
@@ -93,44 +91,28 @@ Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
 void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
                 const synth::RenderedFrame& frame, const Outcome& o,
                 TrackingSetting* s, TrackingFrameRow* row) {
-  row->tank_rot_deg = row->pen_rot_deg = row->tip_mm = NAN;
   s->ms.push_back(o.ms);
-  const bool tank_visible = !frame.tank_tags.empty();
-  const bool pen_visible = !frame.pen_tags.empty();
-  s->tank_visible += tank_visible;
-  s->pen_visible += pen_visible;
-  s->tank_tracked += tank_visible && o.tank_tracked;
-  s->pen_tracked += pen_visible && o.pen_tracked;
-  bool flip = false;
-  if (o.tank) {
-    const double r =
-        tracking::RotationDistance(*o.tank, spec.scene.cam_from_tank);
-    s->tank_rot_deg.push_back(r / kDeg);
-    row->tank_rot_deg = r / kDeg;
-    s->tank_mm.push_back(1000 * tracking::TranslationDistance(
-                                    *o.tank, spec.scene.cam_from_tank));
-    flip |= r > 10 * kDeg;
+  TruthFrame truth;
+  truth.frame = spec.index;
+  truth.cam_from_tank = spec.scene.cam_from_tank;
+  truth.tank_visible = !frame.tank_tags.empty();
+  truth.pen_visible = !frame.pen_tags.empty();
+  EstimateFrame estimate;
+  estimate.cam_from_tank = o.tank;
+  estimate.tank_tracked = o.tank_tracked;
+  estimate.pen_tracked = o.pen_tracked;
+  if (spec.scene.tank_from_pen && rig.pen) {
+    truth.cam_from_pen = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+    truth.tip_in_tank = *spec.scene.tank_from_pen * rig.pen->tip_in_pen;
+    estimate.cam_from_pen = o.pen;
+    if (o.tank && o.pen)
+      estimate.tip_in_tank = o.tank->Inverse() * (*o.pen * rig.pen->tip_in_pen);
   }
-  if (o.pen && spec.scene.tank_from_pen) {
-    const Pose cam_from_pen =
-        spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
-    const double r = tracking::RotationDistance(*o.pen, cam_from_pen);
-    s->pen_rot_deg.push_back(r / kDeg);
-    row->pen_rot_deg = r / kDeg;
-    s->pen_mm.push_back(1000 *
-                        tracking::TranslationDistance(*o.pen, cam_from_pen));
-    flip |= r > 10 * kDeg;
-    if (o.tank) {
-      const Eigen::Vector3d tip_in_tank =
-          o.tank->Inverse() * (*o.pen * rig.pen->tip_in_pen);
-      const Eigen::Vector3d true_tip_in_tank =
-          *spec.scene.tank_from_pen * rig.pen->tip_in_pen;
-      s->tip_mm.push_back(1000 * (tip_in_tank - true_tip_in_tank).norm());
-      row->tip_mm = s->tip_mm.back();
-    }
-  }
-  s->flips += flip;
-  row->flip = flip;
+  const FrameErrors e = s->errors.Add(truth, estimate);
+  row->tank_rot_deg = e.tank_rot_deg;
+  row->pen_rot_deg = e.pen_rot_deg;
+  row->tip_mm = e.tip_mm;
+  row->flip = e.flip;
 }
 
 }  // namespace
@@ -328,33 +310,19 @@ std::string FormatTrackingTable(const TrackingBenchOptions& options,
       synth::ToString(options.floor.kind()), options.threads, result.render_s,
       result.tracking_s);
   out += buf;
-  out +=
-      "| # | setting | ms/frame | tank rot ° med / p95 | tank mm med / p95 | "
-      "pen rot ° med / p95 | tip mm med / p95 | flips | tracked tank / pen "
-      "|\n|---|---|---|---|---|---|---|---|---|\n";
+  out += "| # | setting | ms/frame " + ErrorTableHeaderCells() +
+         "|\n|---|---|---" + ErrorTableSeparatorCells() + "|\n";
   for (size_t i = 0; i < result.settings.size(); ++i) {
     const TrackingSetting& s = *result.settings[i];
-    const double tank_share =
-        double(s.tank_tracked) / std::max(1, s.tank_visible);
-    const double pen_share = double(s.pen_tracked) / std::max(1, s.pen_visible);
-    std::snprintf(
-        buf, sizeof(buf),
-        "| %zu | %s | %.2f | %.3f / %.3f | %.2f / %.2f | %.2f / %.2f | "
-        "%.2f / %.2f | %d | %.1f%% / %.1f%% |\n",
-        i + 1, s.name.c_str(), Pct(s.ms, 50), Pct(s.tank_rot_deg, 50),
-        Pct(s.tank_rot_deg, 95), Pct(s.tank_mm, 50), Pct(s.tank_mm, 95),
-        Pct(s.pen_rot_deg, 50), Pct(s.pen_rot_deg, 95), Pct(s.tip_mm, 50),
-        Pct(s.tip_mm, 95), s.flips, 100 * tank_share, 100 * pen_share);
-    out += buf;
+    std::snprintf(buf, sizeof(buf), "| %zu | %s | %.2f ", i + 1, s.name.c_str(),
+                  Pct(s.ms, 50));
+    out += buf + ErrorTableCells(s.errors.Summarize()) + "|\n";
   }
   return out;
 }
 
 void WriteTrackingCsvHeader(std::ostream* csv) {
-  *csv << "size,frames,setting,ms_median,ms_p95,tank_rot_deg_median,"
-          "tank_rot_deg_p95,tank_mm_median,tank_mm_p95,pen_rot_deg_median,"
-          "pen_rot_deg_p95,tip_mm_median,tip_mm_p95,flips,tank_tracked_share,"
-          "pen_tracked_share\n";
+  *csv << "size,frames,setting,ms_median,ms_p95," << ErrorCsvHeader() << '\n';
 }
 
 void WriteTrackingCsvRows(const TrackingBenchOptions& options,
@@ -363,16 +331,9 @@ void WriteTrackingCsvRows(const TrackingBenchOptions& options,
                           std::ostream* csv) {
   for (const auto& setting : result.settings) {
     const TrackingSetting& s = *setting;
-    const double tank_share =
-        double(s.tank_tracked) / std::max(1, s.tank_visible);
-    const double pen_share = double(s.pen_tracked) / std::max(1, s.pen_visible);
     *csv << size << ',' << options.frames << ",\"" << s.name << "\","
          << Pct(s.ms, 50) << ',' << Pct(s.ms, 95) << ','
-         << Pct(s.tank_rot_deg, 50) << ',' << Pct(s.tank_rot_deg, 95) << ','
-         << Pct(s.tank_mm, 50) << ',' << Pct(s.tank_mm, 95) << ','
-         << Pct(s.pen_rot_deg, 50) << ',' << Pct(s.pen_rot_deg, 95) << ','
-         << Pct(s.tip_mm, 50) << ',' << Pct(s.tip_mm, 95) << ',' << s.flips
-         << ',' << tank_share << ',' << pen_share << '\n';
+         << ErrorCsvFields(s.errors.Summarize()) << '\n';
   }
 }
 

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/pose_errors.h"
 #include "tracking/camera.h"
 #include "tracking/rig.h"
 #include "tracking/synth/floor_pattern.h"
@@ -45,11 +46,8 @@ struct TrackingSetting {
   Baseline baseline = Baseline::kNone;
   tracking::TrackerOptions options;  // kNone only
   std::unique_ptr<tracking::Tracker> tracker;
-  // One entry per frame where the quantity exists: milliseconds, degrees,
-  // millimetres.
-  std::vector<double> ms, tank_rot_deg, tank_mm, pen_rot_deg, pen_mm, tip_mm;
-  int flips = 0;  // frames with a tank or pen rotation error over 10 degrees
-  int tank_tracked = 0, tank_visible = 0, pen_tracked = 0, pen_visible = 0;
+  std::vector<double> ms;       // per frame, milliseconds
+  PoseErrorAccumulator errors;  // per frame, against synth's truth
 
   bool is_default() const;
 };

@@ -24,7 +24,7 @@ bool PlotTipErrorAgainstTime(
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   double x0 = 1e9, x1 = 0, y0 = 1e9, y1 = 0;
   for (const auto& s : settings) {
-    const double x = median(s->ms), y = median(s->tip_mm);
+    const double x = median(s->ms), y = median(s->errors.tip_mm());
     if (!(x > 0) || !(y > 0)) continue;
     x0 = std::min(x0, x), x1 = std::max(x1, x);
     y0 = std::min(y0, y), y1 = std::max(y1, y);
@@ -73,7 +73,7 @@ bool PlotTipErrorAgainstTime(
   int row = 0;
   for (size_t i = 0; i < settings.size(); ++i) {
     const TrackingSetting& s = *settings[i];
-    const double x = median(s.ms), y = median(s.tip_mm);
+    const double x = median(s.ms), y = median(s.errors.tip_mm());
     const cv::Scalar colour =
         s.baseline != Baseline::kNone
             ? cv::Scalar(0, 0, 220)
@@ -90,6 +90,106 @@ bool PlotTipErrorAgainstTime(
                 cv::Point(w - right + 10, top + 12 + 16 * row++),
                 cv::FONT_HERSHEY_SIMPLEX, 0.38, colour, 1, cv::LINE_AA);
   }
+  return cv::imwrite(path, img);
+}
+
+}  // namespace ripple::bench
+
+namespace ripple::bench {
+
+bool PlotErrorsOverFrames(const std::vector<int>& frames,
+                          const std::vector<FrameErrors>& errors,
+                          const std::vector<bool>& pen_in_truth,
+                          const PoseErrorSummary& summary,
+                          const std::string& title, const std::string& path) {
+  const int w = 1200, left = 80, right = 20, top = 40, panel_h = 200, gap = 50;
+  const int h = top + 3 * panel_h + 2 * gap + 50;
+  cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::putText(img, title, cv::Point(left, 25), cv::FONT_HERSHEY_SIMPLEX, 0.6,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  const size_t n = errors.size();
+  const double x_span = n > 1 ? double(n - 1) : 1.0;
+  auto x_of = [&](size_t i) {
+    return int(left + double(i) / x_span * (w - left - right));
+  };
+  struct Panel {
+    const char* label;
+    double FrameErrors::*value;
+    const std::vector<FrameRange>* still;
+    bool pen;
+  };
+  const Panel panels[3] = {
+      {"tank rotation error, deg (log)", &FrameErrors::tank_rot_deg,
+       &summary.tank_static, false},
+      {"pen rotation error, deg (log)", &FrameErrors::pen_rot_deg,
+       &summary.pen_static, true},
+      {"tip error, mm (log)", &FrameErrors::tip_mm, &summary.tip_static, true},
+  };
+  for (int p = 0; p < 3; ++p) {
+    const Panel& panel = panels[p];
+    const int y_top = top + p * (panel_h + gap), y_bottom = y_top + panel_h;
+    // Log range from the data, at least one decade.
+    double lo = 1e30, hi = 0;
+    for (const FrameErrors& e : errors) {
+      const double v = e.*panel.value;
+      if (v > 0) lo = std::min(lo, v), hi = std::max(hi, v);
+    }
+    if (!(hi > 0)) lo = 1e-3, hi = 1;
+    double y0 = std::floor(std::log10(lo)), y1 = std::ceil(std::log10(hi));
+    if (y1 - y0 < 1) y1 = y0 + 1;
+    auto y_of = [&](double v) {
+      const double t =
+          (std::log10(std::max(v, std::pow(10.0, y0))) - y0) / (y1 - y0);
+      return int(y_bottom - t * panel_h);
+    };
+    for (const FrameRange& r : *panel.still)
+      cv::rectangle(img, cv::Point(x_of(r.begin), y_top),
+                    cv::Point(x_of(r.end > 0 ? r.end - 1 : 0), y_bottom),
+                    cv::Scalar(250, 232, 215), cv::FILLED);
+    for (int e = int(y0); e <= int(y1); ++e) {
+      const int y = y_of(std::pow(10.0, e));
+      cv::line(img, cv::Point(left, y), cv::Point(w - right, y),
+               cv::Scalar(215, 215, 215));
+      std::ostringstream t;
+      t << std::pow(10.0, e);
+      cv::putText(img, t.str(), cv::Point(8, y + 4), cv::FONT_HERSHEY_SIMPLEX,
+                  0.4, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+    }
+    cv::rectangle(img, cv::Point(left, y_top), cv::Point(w - right, y_bottom),
+                  cv::Scalar(0, 0, 0));
+    cv::putText(img, panel.label, cv::Point(left + 5, y_top - 6),
+                cv::FONT_HERSHEY_SIMPLEX, 0.45, cv::Scalar(0, 0, 0), 1,
+                cv::LINE_AA);
+    for (size_t i = 0; i < n; ++i) {
+      const double v = errors[i].*panel.value;
+      const int x = x_of(i);
+      if (std::isnan(v)) {
+        const bool expected =
+            !panel.pen || (i < pen_in_truth.size() && pen_in_truth[i]);
+        if (expected)
+          cv::line(img, cv::Point(x, y_bottom + 2), cv::Point(x, y_bottom + 8),
+                   cv::Scalar(0, 0, 220));
+        continue;
+      }
+      cv::circle(
+          img, cv::Point(x, y_of(v)), 2,
+          errors[i].flip ? cv::Scalar(0, 0, 220) : cv::Scalar(160, 80, 0),
+          cv::FILLED, cv::LINE_AA);
+    }
+    // Frame numbers under the panel: first, middle, last.
+    for (size_t i : {size_t(0), n / 2, n ? n - 1 : 0}) {
+      if (i >= frames.size()) continue;
+      cv::putText(img, std::to_string(frames[i]),
+                  cv::Point(x_of(i) - 10, y_bottom + 22),
+                  cv::FONT_HERSHEY_SIMPLEX, 0.4, cv::Scalar(0, 0, 0), 1,
+                  cv::LINE_AA);
+    }
+  }
+  cv::putText(img,
+              "frame; shaded: static segments of the truth; red dot: flip; "
+              "red tick: no estimate",
+              cv::Point(left, h - 12), cv::FONT_HERSHEY_SIMPLEX, 0.45,
+              cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
   return cv::imwrite(path, img);
 }
 

@@ -46,11 +46,12 @@ bool SaveRigAtomically(const tracking::Rig& rig, const std::string& path,
 }
 
 bool SaveCameraAtomically(const tracking::Camera& camera,
-                          const std::string& path, std::string* error) {
+                          const std::string& path, std::string* error,
+                          const std::string& comment) {
   return WriteAtomically(
       path,
       [&](const std::string& temp, std::string* e) {
-        if (tracking::SaveCamera(camera, temp, e)) return true;
+        if (tracking::SaveCamera(camera, temp, e, comment)) return true;
         *e = "cannot write camera '" + path + "'";
         return false;
       },

@@ -23,8 +23,10 @@ bool WriteAtomically(const std::string& path,
 
 bool SaveRigAtomically(const tracking::Rig& rig, const std::string& path,
                        std::string* error);
+// `comment`: as tracking::SaveCamera's.
 bool SaveCameraAtomically(const tracking::Camera& camera,
-                          const std::string& path, std::string* error);
+                          const std::string& path, std::string* error,
+                          const std::string& comment = "");
 
 }  // namespace ripple::calib
 

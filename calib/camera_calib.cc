@@ -185,6 +185,28 @@ ViewSelector::Verdict ViewSelector::Offer(CalibView view) {
   return Verdict::kAccepted;
 }
 
+const char* ToString(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kAuto:
+      return "auto";
+    case DistortionModel::kK1K2:
+      return "k1k2";
+    case DistortionModel::kK1K2K3:
+      return "k1k2k3";
+    case DistortionModel::kRational:
+      return "rational";
+  }
+  return "?";
+}
+
+std::optional<DistortionModel> ParseDistortionModel(const std::string& name) {
+  for (DistortionModel m :
+       {DistortionModel::kAuto, DistortionModel::kK1K2,
+        DistortionModel::kK1K2K3, DistortionModel::kRational})
+    if (name == ToString(m)) return m;
+  return std::nullopt;
+}
+
 bool CameraCalibOptions::IsValid(std::string* error) const {
   if (min_views < 3 || max_views < min_views) {
     if (error) *error = "need 3 <= min_views <= max_views";
@@ -194,7 +216,38 @@ bool CameraCalibOptions::IsValid(std::string* error) const {
     if (error) *error = "outlier_factor must be > 1 and outlier_floor_px > 0";
     return false;
   }
+  if (folds < 2) {
+    if (error) *error = "folds must be >= 2";
+    return false;
+  }
   return true;
+}
+
+std::string CameraCalibSummary::ModelReport() const {
+  std::string s;
+  char line[256];
+  std::snprintf(line, sizeof(line), "distortion model: %s (%s)\n",
+                ToString(model),
+                model_chosen ? (std::to_string(folds) +
+                                "-fold held-out views, one-standard-error rule")
+                                   .c_str()
+                             : "forced");
+  s += line;
+  if (model_chosen) {
+    std::snprintf(line, sizeof(line),
+                  "  (the simplest model with held-out RMS <= %.3f px: the "
+                  "lowest plus one standard error)\n",
+                  std::sqrt(choice_limit_mse_px2));
+    s += line;
+  }
+  s += "  model     RMS px  held-out px  fx       fy\n";
+  for (const DistortionScore& m : models) {
+    std::snprintf(line, sizeof(line), "  %-9s %6.3f  %11.3f  %7.2f  %7.2f%s\n",
+                  ToString(m.model), m.rms_px, m.heldout_rms_px, m.fx, m.fy,
+                  m.model == model ? "  <-" : (m.ok ? "" : "  (fit failed)"));
+    s += line;
+  }
+  return s;
 }
 
 std::string CameraCalibSummary::BriefReport() const {
@@ -208,6 +261,7 @@ std::string CameraCalibSummary::BriefReport() const {
                 views, views_dropped, rms_px, 100 * grid_coverage,
                 100 * hull_coverage, std_fx, std_fy, std_cx, std_cy);
   s += line;
+  s += ModelReport();
   s += "per-view RMS (px):";
   for (size_t i = 0; i < view_rms_px.size(); ++i) {
     std::snprintf(line, sizeof(line), "%s frame %d: %.3f", i ? "," : "",
@@ -244,6 +298,137 @@ void ViewCoverage(const std::vector<CalibView>& views, int width, int height,
   }
 }
 
+namespace {
+
+int CalibFlags(DistortionModel model) {
+  switch (model) {
+    case DistortionModel::kK1K2K3:
+      return 0;
+    case DistortionModel::kRational:
+      return cv::CALIB_RATIONAL_MODEL;
+    default:
+      return cv::CALIB_FIX_K3;
+  }
+}
+
+struct CvViews {
+  std::vector<std::vector<cv::Point3f>> object;
+  std::vector<std::vector<cv::Point2f>> image;
+};
+
+CvViews ToCv(const std::vector<CalibView>& views) {
+  CvViews out;
+  for (const CalibView& v : views) {
+    out.object.emplace_back();
+    out.image.emplace_back();
+    for (size_t i = 0; i < v.pixels.size(); ++i) {
+      out.object.back().emplace_back(v.points_in_target[i].x(),
+                                     v.points_in_target[i].y(), 0.f);
+      out.image.back().emplace_back(v.pixels[i].x(), v.pixels[i].y());
+    }
+  }
+  return out;
+}
+
+struct ModelFit {
+  cv::Mat k, d, std_intrinsics;
+  std::vector<double> view_rms;
+  double rms = 0;
+};
+
+const cv::TermCriteria kCalibTermination(cv::TermCriteria::COUNT +
+                                             cv::TermCriteria::EPS,
+                                         100, 1e-12);
+
+// Starting at the full fit, the folds' fits converge in a few iterations;
+// the cap keeps a fold that does not (a poorly constrained rational model)
+// from costing the full fit's 100.
+const cv::TermCriteria kHeldOutTermination(cv::TermCriteria::COUNT +
+                                               cv::TermCriteria::EPS,
+                                           30, 1e-10);
+
+bool Fit(DistortionModel model, const CvViews& views, cv::Size size,
+         ModelFit* fit, std::string* error) {
+  cv::Mat std_extrinsics, per_view;
+  std::vector<cv::Mat> rvecs, tvecs;
+  try {
+    fit->rms =
+        cv::calibrateCamera(views.object, views.image, size, fit->k, fit->d,
+                            rvecs, tvecs, fit->std_intrinsics, std_extrinsics,
+                            per_view, CalibFlags(model), kCalibTermination);
+  } catch (const cv::Exception& e) {
+    *error = std::string("camera calibration failed: ") + e.what();
+    return false;
+  }
+  fit->view_rms.assign(per_view.begin<double>(), per_view.end<double>());
+  return std::isfinite(fit->rms);
+}
+
+// Mean squared reprojection error (px^2 per point) of each view under
+// `model` fitted without that view's fold; the view's own pose is fitted to
+// it alone (IPPE for the planar target, then Levenberg-Marquardt). The
+// folds' fits start from `all` (the model fitted to every view), which
+// saves most of their iterations.
+bool HeldOutErrors(DistortionModel model, const ModelFit& all,
+                   const CvViews& views, cv::Size size, int folds,
+                   std::vector<double>* mse) {
+  const int n = static_cast<int>(views.object.size());
+  const int k_folds = std::min(folds, n);
+  mse->assign(n, NAN);
+  for (int f = 0; f < k_folds; ++f) {
+    CvViews train;
+    for (int i = 0; i < n; ++i) {
+      if (i % k_folds == f) continue;
+      train.object.push_back(views.object[i]);
+      train.image.push_back(views.image[i]);
+    }
+    cv::Mat k = all.k.clone(), d = all.d.clone();
+    std::vector<cv::Mat> rvecs, tvecs;
+    try {
+      const double rms = cv::calibrateCamera(
+          train.object, train.image, size, k, d, rvecs, tvecs,
+          CalibFlags(model) | cv::CALIB_USE_INTRINSIC_GUESS,
+          kHeldOutTermination);
+      if (!std::isfinite(rms)) return false;
+      for (int i = f; i < n; i += k_folds) {
+        cv::Mat rvec, tvec;
+        if (!cv::solvePnP(views.object[i], views.image[i], k, d, rvec, tvec,
+                          false, cv::SOLVEPNP_IPPE))
+          return false;
+        cv::solvePnPRefineLM(views.object[i], views.image[i], k, d, rvec, tvec);
+        std::vector<cv::Point2f> projected;
+        cv::projectPoints(views.object[i], rvec, tvec, k, d, projected);
+        double sum = 0;
+        for (size_t j = 0; j < projected.size(); ++j) {
+          const cv::Point2f e = projected[j] - views.image[i][j];
+          sum += double(e.x) * e.x + double(e.y) * e.y;
+        }
+        (*mse)[i] = sum / std::max<size_t>(1, projected.size());
+      }
+    } catch (const cv::Exception&) {
+      return false;
+    }
+  }
+  for (double v : *mse)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+tracking::Camera ToCamera(const ModelFit& fit, int width, int height) {
+  tracking::Camera c;
+  c.width = width;
+  c.height = height;
+  c.fx = fit.k.at<double>(0, 0);
+  c.fy = fit.k.at<double>(1, 1);
+  c.cx = fit.k.at<double>(0, 2);
+  c.cy = fit.k.at<double>(1, 2);
+  for (int i = 0; i < std::min<int>(8, fit.d.total()); ++i)
+    c.dist[i] = fit.d.at<double>(i);
+  return c;
+}
+
+}  // namespace
+
 bool CalibrateCamera(const CameraCalibOptions& options,
                      const std::vector<CalibView>& all_views, int width,
                      int height, tracking::Camera* camera,
@@ -257,79 +442,124 @@ bool CalibrateCamera(const CameraCalibOptions& options,
   } else {
     views = all_views;
   }
-  int flags = 0;
-  if (options.fix_k3) flags |= cv::CALIB_FIX_K3;
-  if (options.rational) flags = cv::CALIB_RATIONAL_MODEL;
-
-  for (int round = 0; round < 2; ++round) {
-    if (static_cast<int>(views.size()) < options.min_views) {
-      *error = "too few views: " + std::to_string(views.size()) +
-               " sharp, distinct views of the target (need " +
-               std::to_string(options.min_views) +
-               "); move the target around the whole image";
-      return false;
-    }
-    std::vector<std::vector<cv::Point3f>> object_points;
-    std::vector<std::vector<cv::Point2f>> image_points;
-    for (const CalibView& v : views) {
-      object_points.emplace_back();
-      image_points.emplace_back();
-      for (size_t i = 0; i < v.pixels.size(); ++i) {
-        object_points.back().emplace_back(v.points_in_target[i].x(),
-                                          v.points_in_target[i].y(), 0.f);
-        image_points.back().emplace_back(v.pixels[i].x(), v.pixels[i].y());
-      }
-    }
-    cv::Mat k, d, std_intrinsics, std_extrinsics, per_view;
-    std::vector<cv::Mat> rvecs, tvecs;
-    double rms = 0;
-    try {
-      rms = cv::calibrateCamera(
-          object_points, image_points, cv::Size(width, height), k, d, rvecs,
-          tvecs, std_intrinsics, std_extrinsics, per_view, flags,
-          cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100,
-                           1e-12));
-    } catch (const cv::Exception& e) {
-      *error = std::string("camera calibration failed: ") + e.what();
-      return false;
-    }
-    std::vector<double> view_rms(per_view.begin<double>(),
-                                 per_view.end<double>());
-    const double median = Median(view_rms);
-    const double limit =
-        std::max(options.outlier_floor_px, options.outlier_factor * median);
-    std::vector<CalibView> inliers;
-    for (size_t i = 0; i < views.size(); ++i)
-      if (view_rms[i] <= limit) inliers.push_back(views[i]);
-    if (round == 0 && inliers.size() < views.size()) {
-      summary->views_dropped = static_cast<int>(views.size() - inliers.size());
-      views = std::move(inliers);
-      continue;
-    }
-    tracking::Camera c;
-    c.width = width;
-    c.height = height;
-    c.fx = k.at<double>(0, 0);
-    c.fy = k.at<double>(1, 1);
-    c.cx = k.at<double>(0, 2);
-    c.cy = k.at<double>(1, 2);
-    for (int i = 0; i < std::min<int>(8, d.total()); ++i)
-      c.dist[i] = d.at<double>(i);
-    if (!c.IsValid(error)) return false;
-    *camera = c;
-    summary->views = static_cast<int>(views.size());
-    summary->rms_px = rms;
-    summary->view_rms_px = view_rms;
-    for (const CalibView& v : views) summary->frames.push_back(v.frame);
-    summary->std_fx = std_intrinsics.at<double>(0);
-    summary->std_fy = std_intrinsics.at<double>(1);
-    summary->std_cx = std_intrinsics.at<double>(2);
-    summary->std_cy = std_intrinsics.at<double>(3);
-    ViewCoverage(views, width, height, &summary->grid_coverage,
-                 &summary->hull_coverage);
+  const cv::Size size(width, height);
+  auto too_few = [&] {
+    if (static_cast<int>(views.size()) >= options.min_views) return false;
+    *error = "too few views: " + std::to_string(views.size()) +
+             " sharp, distinct views of the target (need " +
+             std::to_string(options.min_views) +
+             "); move the target around the whole image";
     return true;
+  };
+  if (too_few()) return false;
+
+  // Outlier views, screened with the forced model or, when choosing, with
+  // k3 free (a k3 = 0 fit of a strongly distorting lens would flag the
+  // views that reach the image corners, the very ones that decide k3).
+  const DistortionModel screen = options.distortion == DistortionModel::kAuto
+                                     ? DistortionModel::kK1K2K3
+                                     : options.distortion;
+  ModelFit first;
+  if (!Fit(screen, ToCv(views), size, &first, error)) return false;
+  const double limit =
+      std::max(options.outlier_floor_px,
+               options.outlier_factor * Median(first.view_rms));
+  std::vector<CalibView> inliers;
+  for (size_t i = 0; i < views.size(); ++i)
+    if (first.view_rms[i] <= limit) inliers.push_back(views[i]);
+  const bool dropped = inliers.size() < views.size();
+  if (dropped) {
+    summary->views_dropped = static_cast<int>(views.size() - inliers.size());
+    views = std::move(inliers);
+    if (too_few()) return false;
   }
-  return false;
+  const CvViews cv_views = ToCv(views);
+
+  // Every candidate: fitted to all views, and cross-validated.
+  std::vector<ModelFit> fits;
+  summary->folds = std::min<int>(options.folds, views.size());
+  for (DistortionModel m : kDistortionCandidates) {
+    DistortionScore score;
+    score.model = m;
+    ModelFit fit;
+    std::vector<double> mse;
+    std::string fit_error;
+    if (m == screen && !dropped) {
+      fit = first;
+    } else if (!Fit(m, cv_views, size, &fit, &fit_error)) {
+      if (m == options.distortion) {
+        *error = fit_error;
+        return false;
+      }
+      fit = ModelFit();
+    }
+    if (!fit.k.empty() &&
+        HeldOutErrors(m, fit, cv_views, size, options.folds, &mse)) {
+      score.ok = true;
+      score.rms_px = fit.rms;
+      score.fx = fit.k.at<double>(0, 0);
+      score.fy = fit.k.at<double>(1, 1);
+      // Mean and standard error over views (each view's points together:
+      // they share its fitted pose).
+      double sum = 0, sq = 0;
+      for (double e : mse) sum += e;
+      const double mean = sum / mse.size();
+      for (double e : mse) sq += (e - mean) * (e - mean);
+      score.heldout_mse_px2 = mean;
+      score.heldout_mse_se_px2 =
+          std::sqrt(sq / std::max<size_t>(1, mse.size() - 1) / mse.size());
+      score.heldout_rms_px = std::sqrt(mean);
+    } else if (!fit.k.empty()) {
+      score.rms_px = fit.rms;
+      score.fx = fit.k.at<double>(0, 0);
+      score.fy = fit.k.at<double>(1, 1);
+    }
+    summary->models.push_back(score);
+    fits.push_back(fit);
+  }
+
+  // The choice: the simplest model whose held-out mean squared error is
+  // within one standard error (over views) of the lowest.
+  int chosen = -1;
+  if (options.distortion == DistortionModel::kAuto) {
+    summary->model_chosen = true;
+    int best = -1;
+    for (size_t m = 0; m < summary->models.size(); ++m)
+      if (summary->models[m].ok &&
+          (best < 0 || summary->models[m].heldout_mse_px2 <
+                           summary->models[best].heldout_mse_px2))
+        best = static_cast<int>(m);
+    if (best < 0) {
+      *error = "camera calibration failed: no distortion model could be fitted";
+      return false;
+    }
+    summary->choice_limit_mse_px2 = summary->models[best].heldout_mse_px2 +
+                                    summary->models[best].heldout_mse_se_px2;
+    for (size_t m = 0; m < summary->models.size() && chosen < 0; ++m)
+      if (summary->models[m].ok &&
+          summary->models[m].heldout_mse_px2 <= summary->choice_limit_mse_px2)
+        chosen = static_cast<int>(m);
+  } else {
+    for (size_t m = 0; m < summary->models.size(); ++m)
+      if (summary->models[m].model == options.distortion)
+        chosen = static_cast<int>(m);
+  }
+  const ModelFit& fit = fits[chosen];
+  summary->model = summary->models[chosen].model;
+  tracking::Camera c = ToCamera(fit, width, height);
+  if (!c.IsValid(error)) return false;
+  *camera = c;
+  summary->views = static_cast<int>(views.size());
+  summary->rms_px = fit.rms;
+  summary->view_rms_px = fit.view_rms;
+  for (const CalibView& v : views) summary->frames.push_back(v.frame);
+  summary->std_fx = fit.std_intrinsics.at<double>(0);
+  summary->std_fy = fit.std_intrinsics.at<double>(1);
+  summary->std_cx = fit.std_intrinsics.at<double>(2);
+  summary->std_cy = fit.std_intrinsics.at<double>(3);
+  ViewCoverage(views, width, height, &summary->grid_coverage,
+               &summary->hull_coverage);
+  return true;
 }
 
 }  // namespace ripple::calib

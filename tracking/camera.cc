@@ -83,13 +83,14 @@ std::optional<Camera> LoadCamera(const std::string& path, std::string* error) {
 }
 
 bool SaveCamera(const Camera& camera, const std::string& path,
-                std::string* error) {
+                std::string* error, const std::string& comment) {
   try {
     cv::FileStorage fs(path, cv::FileStorage::WRITE);
     if (!fs.isOpened()) {
       if (error) *error = "cannot write camera file '" + path + "'";
       return false;
     }
+    if (!comment.empty()) fs.writeComment(comment);
     fs << "image_width" << camera.width;
     fs << "image_height" << camera.height;
     cv::Mat k = (cv::Mat_<double>(3, 3) << camera.fx, 0, camera.cx, 0,

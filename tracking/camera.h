@@ -24,8 +24,10 @@ inline constexpr int kMaxImageSide = 16384;
 // kMaxImageSide included).
 std::optional<Camera> LoadCamera(const std::string& path, std::string* error);
 // Writes an OpenCV calibration YAML; false (with `error`) if not writable.
+// A non-empty `comment` is written first, each of its lines as a YAML
+// comment ("# ..."), which readers skip.
 bool SaveCamera(const Camera& camera, const std::string& path,
-                std::string* error);
+                std::string* error, const std::string& comment = "");
 
 }  // namespace ripple::tracking
 

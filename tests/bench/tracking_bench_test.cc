@@ -56,7 +56,7 @@ TEST(TrackingBenchTest, DefaultSettingTracksTheBenchmarkFrames) {
   EXPECT_EQ(s.ms.size(), 6u);
   EXPECT_EQ(result.frame_rows.size(), 6u);
   EXPECT_EQ(progress_calls, 0);  // every 50 frames
-  EXPECT_GT(s.tank_visible, 0);
+  EXPECT_GT(s.errors.Summarize().tank_visible, 0);
 
   const std::string table = FormatTrackingTable(options, "320x240", result);
   EXPECT_THAT(table, HasSubstr("### 320x240, 6 frames"));

@@ -82,6 +82,94 @@ TEST(CameraCalibTest, RecoversIntrinsicsAndDistortion) {
   EXPECT_NEAR(summary.rms_px, 0.2 * std::sqrt(2.0), 0.03);
   EXPECT_EQ(summary.view_rms_px.size(), 25u);
   EXPECT_GT(summary.grid_coverage, 0.3);
+  // k3 = 0 in the lens: the choice keeps the simpler model.
+  EXPECT_EQ(summary.model, DistortionModel::kK1K2);
+  EXPECT_TRUE(summary.model_chosen);
+  EXPECT_EQ(camera.dist[4], 0.0);
+}
+
+// A strongly distorting lens with k3 (OpenCV's sample camera: k1 = -0.27,
+// k3 = 0.25), and the same lens without k3.
+Camera StrongLens(bool with_k3) {
+  Camera c;
+  c.width = 640;
+  c.height = 480;
+  c.fx = 536;
+  c.fy = 536;
+  c.cx = 342;
+  c.cy = 235;
+  c.dist = {-0.265,
+            with_k3 ? -0.047 : 0.09,
+            0.0018,
+            -0.0003,
+            with_k3 ? 0.252 : 0.0,
+            0,
+            0,
+            0};
+  return c;
+}
+
+CameraCalibSummary Calibrate(const std::vector<CalibView>& views,
+                             DistortionModel model, Camera* camera) {
+  CameraCalibOptions options;
+  options.distortion = model;
+  CameraCalibSummary summary;
+  std::string error;
+  EXPECT_TRUE(
+      CalibrateCamera(options, views, 640, 480, camera, &summary, &error))
+      << error;
+  return summary;
+}
+
+TEST(CameraCalibTest, ChoosesK3WhenTheLensHasIt) {
+  const Camera truth = StrongLens(true);
+  std::mt19937 rng(11);
+  const auto views = ChessboardViews(truth, 20, &rng);
+  Camera chosen, fixed;
+  const CameraCalibSummary summary =
+      Calibrate(views, DistortionModel::kAuto, &chosen);
+  std::printf("%s", summary.ModelReport().c_str());
+  EXPECT_EQ(summary.model, DistortionModel::kK1K2K3);
+  EXPECT_NEAR(chosen.fx, truth.fx, 0.002 * truth.fx);
+  EXPECT_NEAR(chosen.fy, truth.fy, 0.002 * truth.fy);
+  EXPECT_NEAR(chosen.dist[4], truth.dist[4], 0.05);
+  // Every candidate is scored; k3 = 0 predicts the held-out views worse and
+  // moves the focal length further.
+  ASSERT_EQ(summary.models.size(), 3u);
+  const DistortionScore& k1k2 = summary.models[0];
+  const DistortionScore& k1k2k3 = summary.models[1];
+  EXPECT_TRUE(k1k2.ok && k1k2k3.ok);
+  EXPECT_GT(k1k2.heldout_rms_px, k1k2k3.heldout_rms_px);
+  const CameraCalibSummary forced =
+      Calibrate(views, DistortionModel::kK1K2, &fixed);
+  EXPECT_FALSE(forced.model_chosen);
+  EXPECT_EQ(forced.model, DistortionModel::kK1K2);
+  EXPECT_EQ(fixed.dist[4], 0.0);
+  EXPECT_DOUBLE_EQ(fixed.fx, k1k2.fx);
+  EXPECT_GT(std::abs(fixed.fx - truth.fx), 2 * std::abs(chosen.fx - truth.fx));
+}
+
+TEST(CameraCalibTest, KeepsK1K2WhenTheLensHasNoK3) {
+  const Camera truth = StrongLens(false);
+  for (int seed : {12, 13}) {
+    std::mt19937 rng(seed);
+    const auto views = ChessboardViews(truth, 20, &rng);
+    Camera camera;
+    const CameraCalibSummary summary =
+        Calibrate(views, DistortionModel::kAuto, &camera);
+    EXPECT_EQ(summary.model, DistortionModel::kK1K2) << "seed " << seed << "\n"
+                                                     << summary.ModelReport();
+    // Within three of OpenCV's standard deviations.
+    EXPECT_NEAR(camera.fx, truth.fx, 3 * summary.std_fx) << "seed " << seed;
+  }
+}
+
+TEST(CameraCalibTest, DistortionModelNames) {
+  for (DistortionModel m :
+       {DistortionModel::kAuto, DistortionModel::kK1K2,
+        DistortionModel::kK1K2K3, DistortionModel::kRational})
+    EXPECT_EQ(ParseDistortionModel(ToString(m)), m);
+  EXPECT_FALSE(ParseDistortionModel("k1"));
 }
 
 TEST(CameraCalibTest, TooFewViews) {

@@ -211,9 +211,11 @@ int RunCalibCamera(const CalibArgs& args) {
         100 * summary.grid_coverage);
   // The file says how its model was chosen; the report's lines, minus the
   // trailing newline, become its comment.
-  std::string comment =
-      "ripple calib camera: " + std::to_string(summary.views) + " views, RMS " +
-      std::to_string(summary.rms_px) + " px\n" + summary.ModelReport();
+  char head[96];
+  std::snprintf(head, sizeof(head),
+                "ripple calib camera: %d views, RMS %.3f px\n", summary.views,
+                summary.rms_px);
+  std::string comment = head + summary.ModelReport();
   comment.pop_back();
   if (!calib::SaveCameraAtomically(camera, args.out, &error, comment))
     return Fail(kExitRuntime, error);

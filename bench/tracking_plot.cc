@@ -102,7 +102,7 @@ bool PlotErrorsOverFrames(const std::vector<int>& frames,
                           const std::vector<bool>& pen_in_truth,
                           const PoseErrorSummary& summary,
                           const std::string& title, const std::string& path) {
-  const int w = 1200, left = 80, right = 20, top = 40, panel_h = 200, gap = 50;
+  const int w = 1200, left = 80, right = 20, top = 65, panel_h = 200, gap = 50;
   const int h = top + 3 * panel_h + 2 * gap + 50;
   cv::Mat img(h, w, CV_8UC3, cv::Scalar(255, 255, 255));
   cv::putText(img, title, cv::Point(left, 25), cv::FONT_HERSHEY_SIMPLEX, 0.6,

@@ -7,6 +7,7 @@
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/videoio.hpp>
+#include <random>
 
 #include "tests/app/cli_test.h"
 #include "tests/calib/calib_scene.h"
@@ -55,6 +56,131 @@ void RenderPenFrames(const tracking::Camera& camera, const tracking::Rig& rig,
 void WriteCamera(const tracking::Camera& camera, const std::string& path) {
   std::string error;
   ASSERT_TRUE(tracking::SaveCamera(camera, path, &error)) << error;
+}
+
+// Renders `n` views of a 9x6 chessboard (25 mm squares, a white margin)
+// through `camera`'s distortion: each pixel's 3x3 sub-samples are undistorted
+// to rays (once, the camera is fixed), cut with the board plane and shaded
+// black or white; the mean is the pixel. Views are drawn at random until the
+// whole board lies 4 px inside the image.
+void RenderChessboardViews(const tracking::Camera& camera, int n,
+                           const std::string& dir) {
+  const int w = camera.width, h = camera.height;
+  std::vector<Eigen::Vector2d> rays(size_t(w) * h * 9);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int s = 0; s < 9; ++s)
+        rays[(size_t(y) * w + x) * 9 + s] = camera.UndistortToNormalized(
+            {x + (s % 3 - 1) / 3.0, y + (s / 3 - 1) / 3.0});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1, 1);
+  const double square = 0.025;
+  int written = 0;
+  while (written < n) {
+    const Pose cam_from_board =
+        Pose(
+            Eigen::Quaterniond(
+                Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitX()) *
+                Eigen::AngleAxisd(0.5 * u(rng), Eigen::Vector3d::UnitY()) *
+                Eigen::AngleAxisd(0.3 * u(rng), Eigen::Vector3d::UnitZ())),
+            Eigen::Vector3d(0.13 * u(rng), 0.1 * u(rng), 0.4 + 0.08 * u(rng))) *
+        Pose(Eigen::Quaterniond::Identity(),
+             Eigen::Vector3d(-4 * square, -2.5 * square, 0));
+    bool inside = true;
+    for (int r = -1; r <= 6 && inside; r += 7)
+      for (int c = -1; c <= 9 && inside; c += 10) {
+        const Eigen::Vector3d p =
+            cam_from_board * Eigen::Vector3d(c * square, r * square, 0);
+        const Eigen::Vector2d px = camera.Project(p);
+        inside = p.z() > 0 && px.x() > 4 && px.x() < w - 5 && px.y() > 4 &&
+                 px.y() < h - 5;
+      }
+    if (!inside) continue;
+    // The board plane z = 0 in the camera frame: n . X = d.
+    const Eigen::Matrix3d r = cam_from_board.R();
+    const Eigen::Vector3d normal = r.col(2);
+    const double d = normal.dot(cam_from_board.translation);
+    const Pose board_from_cam = cam_from_board.Inverse();
+    cv::Mat image(h, w, CV_8U);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        double sum = 0;
+        for (int s = 0; s < 9; ++s) {
+          const Eigen::Vector2d& q = rays[(size_t(y) * w + x) * 9 + s];
+          const Eigen::Vector3d ray(q.x(), q.y(), 1);
+          const Eigen::Vector3d b =
+              board_from_cam * (ray * (d / normal.dot(ray)));
+          // Squares (c, r) from (-1, -1) to (8, 5); the first inner corner
+          // is at the origin; a white margin of one square around.
+          const int c = int(std::floor(b.x() / square)),
+                    rr = int(std::floor(b.y() / square));
+          const bool board = c >= -1 && c <= 8 && rr >= -1 && rr <= 5;
+          sum += board && ((c + rr) & 1) == 0 ? 30 : 220;
+        }
+        image.at<uint8_t>(y, x) = cv::saturate_cast<uint8_t>(sum / 9);
+      }
+    char name[32];
+    std::snprintf(name, sizeof(name), "/%04d.png", written++);
+    ASSERT_TRUE(cv::imwrite(dir + name, image));
+  }
+}
+
+TEST(CalibCliTest, CameraFromRenderedChessboards) {
+  // OpenCV's sample camera: fx 536, k1 -0.265, k3 0.252. With the whole
+  // board in view the points stay off the image corners where k3 acts, and
+  // k1k2 predicts held-out views as well (measured: held-out 0.103 against
+  // 0.102 px, fx 536.91 against 536.84): the rule may keep k1k2 and fx is
+  // right either way. That auto picks k3 when the points reach the corners
+  // is camera_calib_test's ChoosesK3WhenTheLensHasIt.
+  tracking::Camera truth;
+  truth.width = 640;
+  truth.height = 480;
+  truth.fx = truth.fy = 536;
+  truth.cx = 342;
+  truth.cy = 235;
+  truth.dist = {-0.265, -0.047, 0.0018, -0.0003, 0.252, 0, 0, 0};
+  const std::string dir = Dir("chessboard_k3");
+  fs::create_directories(dir + "/frames");
+  RenderChessboardViews(truth, 20, dir + "/frames");
+  const std::string out = dir + "/cam.yml";
+  auto r = ripple::testing::RunRipple(
+      "calib camera --input " + dir +
+      "/frames --chessboard 9x6 --square 0.025 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::printf("%s", r.output.c_str());
+  EXPECT_NE(r.output.find("one-standard-error rule"), std::string::npos);
+  std::string error;
+  const auto camera = tracking::LoadCamera(out, &error);
+  ASSERT_TRUE(camera) << error;
+  EXPECT_NEAR(camera->fx, truth.fx, 0.003 * truth.fx);
+  // The file keeps the choice as its comment.
+  std::ifstream in(out);
+  const std::string text((std::istreambuf_iterator<char>(in)),
+                         std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("# distortion model: "), std::string::npos);
+  EXPECT_NE(text.find("#   k1k2 "), std::string::npos);
+  // A forced model.
+  r = ripple::testing::RunRipple("calib camera --input " + dir +
+                                 "/frames --chessboard 9x6 --square 0.025 "
+                                 "--distortion k1k2k3 --out " +
+                                 out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("distortion model: k1k2k3 (forced)"),
+            std::string::npos);
+  EXPECT_NE(tracking::LoadCamera(out, &error)->dist[4], 0.0);
+  // Contradicting options are bad usage.
+  r = ripple::testing::RunRipple(
+      "calib camera --input " + dir +
+      "/frames --chessboard 9x6 --distortion k1k2 --k3 "
+      "--out " +
+      out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("give one of --distortion, --k3 and --rational"),
+            std::string::npos);
+  r = ripple::testing::RunRipple(
+      "calib camera --input " + dir +
+      "/frames --chessboard 9x6 --distortion k5 --out " + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
 }
 
 TEST(CalibCliTest, RigFromRenderedFramesRecoversCubeFaces) {

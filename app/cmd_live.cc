@@ -33,6 +33,9 @@ int RunLive(LiveArgs& args) {
   std::string error;
   if (!FinishPipelineOptions(&args.pipeline, "glfw", &error))
     return Fail(kExitBadInput, error);
+  // Screenshots read the FBO back at any time, when the camera's frame may
+  // be gone: the whole frame is drawn.
+  args.pipeline.options.renderer.full_frame_output = true;
   auto camera = LoadCameraOrReport(args.camera);
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);

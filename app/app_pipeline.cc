@@ -25,6 +25,11 @@ bool PipelineOptions::IsValid(std::string* error) const {
   return true;
 }
 
+double QuadDecimateForHeight(int height_px, double configured) {
+  const double steps = std::floor(height_px / 240.0);
+  return std::clamp(std::max(configured, steps), 1.0, 8.0);
+}
+
 Pipeline::~Pipeline() {
   // GL objects die before their context.
   renderer_.reset();
@@ -48,8 +53,13 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->camera_ = camera;
   p->rig_ = rig;
   p->options_ = options;
+  tracking::TrackerOptions tracker_options = options.tracker;
+  if (options.decimate_by_resolution) {
+    tracker_options.detector.quad_decimate = QuadDecimateForHeight(
+        camera.height, tracker_options.detector.quad_decimate);
+  }
   p->tracker_ =
-      std::make_unique<tracking::Tracker>(camera, rig, options.tracker);
+      std::make_unique<tracking::Tracker>(camera, rig, tracker_options);
 
   sim::GridSpec grid;
   if (!WaterForRig(rig, options.sim_cells_x, options.keep_push_radius,

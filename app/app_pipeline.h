@@ -55,6 +55,9 @@ struct PipelineOptions {
   // (StageTimes::lat); live, where waiting for the camera's next frame
   // would add its period, keeps it off.
   bool overlap_tracking = true;
+  // The detector's quad decimation grows with the frame's height
+  // (QuadDecimateForHeight) above the tracker's own setting.
+  bool decimate_by_resolution = true;
 
   bool IsValid(std::string* error) const;
 };
@@ -84,6 +87,13 @@ void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
 // pointers: both must outlive the render.
 void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
                         render::SceneInputs* scene);
+
+// libapriltag's quad decimation for frames `height_px` rows high: one step
+// per 240 rows (2 at 480, 3 at 720, 4 at 1080), never below `configured`.
+// At one field of view a tag covers the same share of the frame at any
+// resolution, so quad finding then sees about the same 240-row image;
+// corners are refined at full resolution all the same.
+double QuadDecimateForHeight(int height_px, double configured);
 
 class Pipeline {
  public:

@@ -206,6 +206,17 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
   EXPECT_GT(tracked, seq.frames / 2);
 }
 
+// The detector's decimation follows the webcam's mode.
+TEST(QuadDecimateTest, OneStepPer240RowsNeverBelowTheSetting) {
+  EXPECT_EQ(QuadDecimateForHeight(480, 2.0), 2.0);
+  EXPECT_EQ(QuadDecimateForHeight(720, 2.0), 3.0);
+  EXPECT_EQ(QuadDecimateForHeight(1080, 2.0), 4.0);
+  EXPECT_EQ(QuadDecimateForHeight(240, 2.0), 2.0);
+  EXPECT_EQ(QuadDecimateForHeight(120, 1.0), 1.0);
+  EXPECT_EQ(QuadDecimateForHeight(720, 1.5), 3.0);
+  EXPECT_EQ(QuadDecimateForHeight(100000, 2.0), 8.0);
+}
+
 TEST_F(FrameLoopTest, PausedTurnsNeitherReadNorProcess) {
   ScriptedSource source(size(), 3, false);
   RecordingSink sink;

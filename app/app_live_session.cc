@@ -288,9 +288,9 @@ std::vector<std::string> LiveSession::HudLines() const {
   lines.push_back(buf);
   std::snprintf(buf, sizeof(buf),
                 "ms  cap %.1f det %.1f pose %.1f occ %.1f sim %.1f caus %.1f "
-                "shad %.1f drw %.1f tot %.1f",
+                "shad %.1f drw %.1f tot %.1f lat %.1f",
                 m.cap, m.det, m.pose, m.occ, m.sim, m.caustics, m.shadow, m.drw,
-                m.total);
+                m.total, m.lat);
   lines.push_back(buf);
   if (w.waves == sim::WaveModel::kPaper) {
     std::snprintf(

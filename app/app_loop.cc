@@ -1,5 +1,7 @@
 #include "app/app_loop.h"
 
+#include <utility>
+
 #include "bench/stats.h"
 
 namespace ripple::app {
@@ -16,8 +18,13 @@ void RunFrameLoop(const FrameLoopHooks& hooks, FrameSource* source,
                   const std::vector<FrameSink*>& sinks,
                   FrameLoopSummary* summary) {
   *summary = FrameLoopSummary();
-  SourceFrame frame;
-  bool have_frame = true;
+  // Reading ahead: the frame after `frame`, read before `frame` is
+  // processed (its own buffer: a source may reuse the last one).
+  const bool overlap = pipeline->overlap_tracking() && !hooks.paused;
+  SourceFrame frame, next;
+  bool have_frame = true, have_next = false;
+  bool tracked_ahead = false;  // `frame` was tracked during the last one
+  double last_total_ms = 0;
   if (first) {
     frame = *first;
   } else {
@@ -31,8 +38,18 @@ void RunFrameLoop(const FrameLoopHooks& hooks, FrameSource* source,
       bool read_back = false;
       for (const FrameSink* sink : sinks)
         read_back = read_back || sink->WantsComposite(index);
-      const FrameReport report =
-          pipeline->Process(frame.bgr, frame.time_s, frame.cap_ms, read_back);
+      if (overlap) {
+        next.bgr = cv::Mat();  // a fresh buffer, not frame's
+        have_next = ReadSourceFrame(source, &next);
+      }
+      FrameReport report =
+          pipeline->Process(frame.bgr, frame.time_s, frame.cap_ms, read_back,
+                            have_next ? &next.bgr : nullptr, next.time_s);
+      // A frame tracked during the last one waited for it as well (the
+      // loop's own reads and sinks are not the pipeline's latency).
+      if (tracked_ahead) report.times.lat += last_total_ms;
+      tracked_ahead = have_next;
+      last_total_ms = report.times.total;
       ++summary->frames;
       LoopFrame loop_frame;
       loop_frame.index = index;
@@ -54,7 +71,12 @@ void RunFrameLoop(const FrameLoopHooks& hooks, FrameSource* source,
       break;
     }
     if (hooks.paused && hooks.paused()) continue;
-    have_frame = ReadSourceFrame(source, &frame);
+    if (overlap) {
+      have_frame = have_next;
+      std::swap(frame, next);
+    } else {
+      have_frame = ReadSourceFrame(source, &frame);
+    }
   }
   if (!summary->stopped) summary->source_error = source->error();
   for (FrameSink* sink : sinks) {

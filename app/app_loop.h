@@ -92,7 +92,9 @@ struct FrameLoopSummary {
 
 // Processes `first` (already read, e.g. to size the pipeline; nullptr: the
 // loop reads it) and every further frame of `source` until it ends, a sink
-// or a hook stops the loop. Closes every sink before returning.
+// or a hook stops the loop. Closes every sink before returning. With the
+// pipeline's overlap_tracking and no pause hook, frame n + 1 is read
+// before frame n is processed, so that its tracking overlaps n's render.
 void RunFrameLoop(const FrameLoopHooks& hooks, FrameSource* source,
                   const SourceFrame* first, Pipeline* pipeline,
                   const std::vector<FrameSink*>& sinks,

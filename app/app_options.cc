@@ -55,6 +55,12 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-occluders", args->no_occluders,
                 "Draw the water over everything: no clean plate of the "
                 "board, no hands or objects kept in front of the tank");
+  sub->add_flag("--no-overlap", args->no_overlap,
+                "Track each frame before its render instead of beside the "
+                "last frame's (lower latency, lower frame rate)");
+  sub->add_flag("--full-frame", args->full_frame,
+                "Draw every pixel through GL (by default only the tank's "
+                "part of the frame is; the rest is the video as it came)");
 }
 
 bool ParseLightDirection(const std::string& text, Eigen::Vector3d* light,
@@ -117,6 +123,8 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.occluders = !args->no_occluders;
+  o.overlap_tracking = !args->no_overlap;
+  o.renderer.full_frame_output = args->full_frame;
   if (!render::ParseShadowFilter(args->shadows, &o.renderer.shadow_filter)) {
     if (error)
       *error = "--shadows '" + args->shadows + "': use pcf, gauss or hard";

@@ -28,6 +28,8 @@ struct PipelineArgs {
   std::string floor;           // --floor: the printed tank floor (app_floor.h)
   std::string light = "auto";  // --light auto | AZ,EL (degrees)
   bool no_occluders = false;
+  bool no_overlap = false;  // PipelineOptions::overlap_tracking off
+  bool full_frame = false;  // RendererOptions::full_frame_output
   // --sun LAT,LON,DATETIME: the light from the sun's position (app_sun.h);
   // --north: the bearing of the board's +y, degrees clockwise from north.
   std::string sun;

@@ -9,6 +9,7 @@
 #include "app/app_obstacles.h"
 #include "app/app_water.h"
 #include "bench/stats.h"
+#include "geometry/check.h"
 #include "sim/water_factory.h"
 
 namespace ripple::app {
@@ -22,6 +23,11 @@ bool PipelineOptions::IsValid(std::string* error) const {
     return false;
   }
   return true;
+}
+
+double QuadDecimateForHeight(int height_px, double configured) {
+  const double steps = std::floor(height_px / 240.0);
+  return std::clamp(std::max(configured, steps), 1.0, 8.0);
 }
 
 Pipeline::~Pipeline() {
@@ -47,8 +53,13 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->camera_ = camera;
   p->rig_ = rig;
   p->options_ = options;
+  tracking::TrackerOptions tracker_options = options.tracker;
+  if (options.decimate_by_resolution) {
+    tracker_options.detector.quad_decimate = QuadDecimateForHeight(
+        camera.height, tracker_options.detector.quad_decimate);
+  }
   p->tracker_ =
-      std::make_unique<tracking::Tracker>(camera, rig, options.tracker);
+      std::make_unique<tracking::Tracker>(camera, rig, tracker_options);
 
   sim::GridSpec grid;
   if (!WaterForRig(rig, options.sim_cells_x, options.keep_push_radius,
@@ -285,13 +296,31 @@ void Pipeline::UpdateSceneObstacles() {
 }
 
 FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
-                              bool read_back) {
+                              bool read_back, const cv::Mat* next,
+                              double next_time_s) {
   FrameReport report;
   const bench::Stopwatch frame_watch;
   report.times.cap = cap_ms;
 
-  // Tracking.
-  report.tracking = tracker_->Track(bgr, time_s);
+  // Tracking: done during the last frame, or now.
+  if (next_tracking_) {
+    RIPPLE_CHECK(next_data_ == bgr.data && next_time_s_ == time_s,
+                 "Pipeline::Process: not the frame whose tracking was done");
+    report.tracking = std::move(*next_tracking_);
+    next_tracking_.reset();
+  } else {
+    report.tracking = tracker_->Track(bgr, time_s);
+  }
+  // The next frame's tracking, beside this frame's water and render (the
+  // tracker is this thread's no more until it is joined below).
+  std::future<tracking::FrameResult> next_job;
+  if (next != nullptr && !next->empty()) {
+    next_data_ = next->data;
+    next_time_s_ = next_time_s;
+    next_job = std::async(std::launch::async, [this, next, next_time_s] {
+      return tracker_->Track(*next, next_time_s);
+    });
+  }
   const tracking::FrameResult& tr = report.tracking;
   report.times.det = tr.timings.detect_ms;
   report.times.pose = tr.timings.pose_ms;
@@ -370,7 +399,11 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     bgr.copyTo(composite_);
     report.times.drw = render_watch.ElapsedMs();
   }
+  if (next_job.valid()) next_tracking_ = next_job.get();
   report.times.total = frame_watch.ElapsedMs();
+  // Without overlap the frame's latency is its own time; with it, the
+  // frame loop adds the last frame's time, during which it was tracked.
+  report.times.lat = report.times.total;
   return report;
 }
 

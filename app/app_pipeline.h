@@ -49,6 +49,15 @@ struct PipelineOptions {
   tracking::LightFromShadowOptions light_estimator;
   tracking::LightTrackerOptions light_tracker;
   int light_every_frames = 10;  // an estimate is started every this many
+  // Tracking of frame n + 1 overlaps the water and the render of frame n,
+  // on the second core, when the frame loop has frame n + 1 already (video
+  // files, the demo). It spends a frame of latency for throughput
+  // (StageTimes::lat); live, where waiting for the camera's next frame
+  // would add its period, keeps it off.
+  bool overlap_tracking = true;
+  // The detector's quad decimation grows with the frame's height
+  // (QuadDecimateForHeight) above the tracker's own setting.
+  bool decimate_by_resolution = true;
 
   bool IsValid(std::string* error) const;
 };
@@ -79,6 +88,13 @@ void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
 void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
                         render::SceneInputs* scene);
 
+// libapriltag's quad decimation for frames `height_px` rows high: one step
+// per 240 rows (2 at 480, 3 at 720, 4 at 1080), never below `configured`.
+// At one field of view a tag covers the same share of the frame at any
+// resolution, so quad finding then sees about the same 240-row image;
+// corners are refined at full resolution all the same.
+double QuadDecimateForHeight(int height_px, double configured);
+
 class Pipeline {
  public:
   // Builds tracker, water (with the rig's obstacles) and renderer; nullptr
@@ -92,8 +108,13 @@ class Pipeline {
   // Processes one BGR frame taken at `time_s` (seconds, from the source's
   // timestamps; the water advances by the difference to the last frame).
   // With `read_back`, composite() holds the finished frame afterwards.
+  // With `next` (the frame after this one, and its time), its tracking runs
+  // on a worker thread beside this frame's water and render, and is waited
+  // for before returning; the next call must then be for that frame.
   FrameReport Process(const cv::Mat& bgr, double time_s, double cap_ms,
-                      bool read_back);
+                      bool read_back, const cv::Mat* next = nullptr,
+                      double next_time_s = 0);
+  bool overlap_tracking() const { return options_.overlap_tracking; }
   const cv::Mat& composite() const { return composite_; }
 
   // Interactive controls (live keys).
@@ -118,6 +139,11 @@ class Pipeline {
   tracking::Rig rig_;
   PipelineOptions options_;
   std::unique_ptr<tracking::Tracker> tracker_;
+  // The next frame's tracking, done by the last Process (overlap_tracking),
+  // and which frame it is.
+  std::optional<tracking::FrameResult> next_tracking_;
+  const std::uint8_t* next_data_ = nullptr;
+  double next_time_s_ = 0;
   std::unique_ptr<sim::WaterSurface> water_;
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;

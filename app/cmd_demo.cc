@@ -14,6 +14,7 @@
 #include "app/app_pipeline.h"
 #include "app/app_sinks.h"
 #include "app/app_synth_source.h"
+#include "app/app_wxh.h"
 #include "app/command.h"
 #include "bench/stage_table.h"
 #include "tracking/synth/synth.h"
@@ -28,12 +29,18 @@ struct DemoArgs {
   int frames = 240;
   int idle_frames = 60;
   uint64_t seed = 1;
+  std::string size;       // WxH; empty: the camera file's
   PipelineArgs pipeline;  // --gl, water and effects
 };
 
 int RunDemo(DemoArgs args) {
   auto camera = LoadCameraOrReport(args.camera);
   if (!camera) return kExitBadInput;
+  if (!args.size.empty()) {
+    WxH size;
+    ParseWxH(args.size, &size);  // checked by the option's validator
+    *camera = camera->Scaled(size.width, size.height);
+  }
   auto rig = LoadRigOrReport(args.rig);
   if (!rig) return kExitBadInput;
   if (!rig->pen)
@@ -173,6 +180,10 @@ CommandAction SetupDemo(CLI::App* sub) {
   sub->add_option("--idle-frames", args->idle_frames, "Frames of the idle tail")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  sub->add_option("--size", args->size,
+                  "Image size WxH, e.g. 1280x720 (intrinsics scaled from "
+                  "--camera, as a webcam's other modes)")
+      ->check(WxHValidator(WxHLimits::Size()));
   AddPipelineOptions(sub, &args->pipeline);
   sub->add_option("--seed", args->seed, "Noise seed")->capture_default_str();
   return [args] { return RunDemo(*args); };

@@ -33,6 +33,12 @@ int RunLive(LiveArgs& args) {
   std::string error;
   if (!FinishPipelineOptions(&args.pipeline, "glfw", &error))
     return Fail(kExitBadInput, error);
+  // Screenshots read the FBO back at any time, when the camera's frame may
+  // be gone: the whole frame is drawn.
+  args.pipeline.options.renderer.full_frame_output = true;
+  // Reading the camera's next frame before rendering this one would wait
+  // for it: no overlap.
+  args.pipeline.options.overlap_tracking = false;
   auto camera = LoadCameraOrReport(args.camera);
   if (!camera) return kExitBadInput;
   auto rig = LoadRigOrReport(args.rig);

@@ -16,7 +16,7 @@ const Column kColumns[] = {
     {"pose", &StageTimes::pose},         {"occ", &StageTimes::occ},
     {"drw", &StageTimes::drw},           {"sim", &StageTimes::sim},
     {"caustics", &StageTimes::caustics}, {"shadow", &StageTimes::shadow},
-    {"total", &StageTimes::total}};
+    {"total", &StageTimes::total},       {"lat", &StageTimes::lat}};
 
 }  // namespace
 

@@ -1,8 +1,12 @@
 // The per-stage timing table printed at the end of live, replay and demo,
 // with the columns of Tawara & Ono's Table 1: cap, det, pose, drw, sim,
-// caustics, shadow, total (milliseconds; median and p95 over the frames).
-// `total` is everything after capture up to a finished frame in memory; it
-// excludes video encoding.
+// caustics, shadow, total (milliseconds; median and p95 over the frames),
+// and lat. `total` is the frame loop's time per frame after capture up to a
+// finished frame in memory (it excludes video encoding); `lat` is the
+// latency from the end of a frame's capture to that frame finished. They
+// are equal unless tracking overlaps the previous frame's render
+// (PipelineOptions::overlap_tracking): then det and pose ran beside it, and
+// lat grows by the time the frame waited.
 #ifndef RIPPLE_BENCH_STAGE_TABLE_H_
 #define RIPPLE_BENCH_STAGE_TABLE_H_
 
@@ -21,6 +25,7 @@ struct StageTimes {
   double shadow = 0;    // shadow map pass (0 when skipped)
   double drw = 0;       // uploads, main pass and readback into memory
   double total = 0;     // det + pose + sim + render + readback, wall clock
+  double lat = 0;       // capture done -> frame done, wall clock
 };
 
 class StageTable {

@@ -142,7 +142,7 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     list.push_back(defaults);
   } else {
     list.push_back(defaults);
-    for (double d : {1.0, 1.5, 2.0, 3.0}) {
+    for (double d : {1.0, 1.5, 2.0, 3.0, 4.0}) {
       if (d == defaults.detector.quad_decimate) continue;
       tracking::TrackerOptions o = defaults;
       o.detector.quad_decimate = d;

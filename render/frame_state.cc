@@ -94,11 +94,19 @@ void SetUniform(GLint location, const glm::dvec3& v) {
 glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
                    double size_y, double z0, double z1, int pad, int width,
                    int height) {
-  glm::dvec2 lo(1e9), hi(-1e9);
+  glm::dvec3 corners[8];
   for (int i = 0; i < 8; ++i) {
-    const glm::dvec4 p((i & 1 ? 0.5 : -0.5) * size_x,
-                       (i & 2 ? 0.5 : -0.5) * size_y, i & 4 ? z1 : z0, 1.0);
-    const glm::dvec4 c = clip_from_tank * p;
+    corners[i] = {(i & 1 ? 0.5 : -0.5) * size_x, (i & 2 ? 0.5 : -0.5) * size_y,
+                  i & 4 ? z1 : z0};
+  }
+  return PointsRect(clip_from_tank, corners, 8, pad, width, height);
+}
+
+glm::ivec4 PointsRect(const glm::dmat4& clip_from_tank, const glm::dvec3* p,
+                      int n, int pad, int width, int height) {
+  glm::dvec2 lo(1e9), hi(-1e9);
+  for (int i = 0; i < n; ++i) {
+    const glm::dvec4 c = clip_from_tank * glm::dvec4(p[i], 1.0);
     if (c.w <= 1e-6) return {0, 0, width, height};
     const glm::dvec2 win = WindowFromClip(c, width, height);
     lo = glm::min(lo, win);
@@ -110,6 +118,38 @@ glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
   const int x1 = std::clamp(static_cast<int>(std::ceil(hi.x)) + pad, 0, width);
   const int y1 = std::clamp(static_cast<int>(std::ceil(hi.y)) + pad, 0, height);
   return {x0, y0, x1 - x0, y1 - y0};
+}
+
+glm::ivec4 UnionRect(const glm::ivec4& a, const glm::ivec4& b) {
+  if (a.z <= 0 || a.w <= 0) return b;
+  if (b.z <= 0 || b.w <= 0) return a;
+  const int x0 = std::min(a.x, b.x), y0 = std::min(a.y, b.y);
+  const int x1 = std::max(a.x + a.z, b.x + b.z);
+  const int y1 = std::max(a.y + a.w, b.y + b.w);
+  return {x0, y0, x1 - x0, y1 - y0};
+}
+
+glm::ivec4 OutputWindow(const FrameState& f, int pad) {
+  const SceneInputs& scene = *f.scene;
+  const TankGeometry& t = scene.tank;
+  const int w = f.k->width, h = f.k->height;
+  glm::ivec4 r =
+      BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
+              std::max<double>(t.wall_height, t.water_level + 0.01), pad, w, h);
+  for (const Obstacle& o : scene.obstacles) {
+    // The model's bounding box (Obstacle::size), base centre at the origin.
+    const bool box = o.shape == Obstacle::Shape::kBox;
+    const double hx = box ? 0.5 * o.size.x : o.size.x;
+    const double hy = box ? 0.5 * o.size.y : o.size.x;
+    glm::dvec3 corners[8];
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec4 p(i & 1 ? hx : -hx, i & 2 ? hy : -hy,
+                         i & 4 ? double(o.size.z) : 0.0, 1.0);
+      corners[i] = glm::dvec3(o.tank_from_obstacle * p);
+    }
+    r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 8, pad, w, h));
+  }
+  return r;
 }
 
 }  // namespace ripple::render::internal

@@ -99,6 +99,20 @@ glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
                    double size_y, double z0, double z1, int pad, int width,
                    int height);
 
+// The same for `n` tank-frame points.
+glm::ivec4 PointsRect(const glm::dmat4& clip_from_tank, const glm::dvec3* p,
+                      int n, int pad, int width, int height);
+
+// The smallest rectangle holding both (an empty one counts as nothing).
+glm::ivec4 UnionRect(const glm::ivec4& a, const glm::ivec4& b);
+
+// The output's window (x, y, w, h; window pixels, top row first): every
+// pixel a pass can change. That is the tank's box from its floor to the
+// wall tops (or the rest level + 1 cm, if higher) and every obstacle's
+// bounding box, grown by `pad` pixels. Outside it the output is the video
+// as it came; the pen's phantom and the occluders only lay depth.
+glm::ivec4 OutputWindow(const FrameState& f, int pad);
+
 }  // namespace ripple::render::internal
 
 #endif  // RIPPLE_RENDER_FRAME_STATE_H_

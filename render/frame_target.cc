@@ -1,5 +1,7 @@
 #include "render/frame_target.h"
 
+#include <cstring>
+
 #include "render/gl_loader.h"
 
 namespace ripple::render::internal {
@@ -34,28 +36,67 @@ bool FrameTarget::Allocate(int w, int h, std::string* error) {
   return true;
 }
 
-void FrameTarget::BeginFrame(bool keep_color) {
+void FrameTarget::BeginFrame(bool keep_color, const glm::ivec4& window) {
+  window_ = window;
   glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
   glViewport(0, 0, width_, height_);
+  if (window.z <= 0 || window.w <= 0) return;
   glClearDepth(1.0);
   glClearStencil(0);
+  const bool whole = window == glm::ivec4(0, 0, width_, height_);
+  if (!whole) {
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(window.x, window.y, window.z, window.w);
+  }
   if (keep_color) {
     glClear(GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   } else {
     glClearColor(0.f, 0.f, 0.f, 1.f);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
   }
+  if (!whole) glDisable(GL_SCISSOR_TEST);
 }
 
-bool FrameTarget::ReadBgr(const Context& context, std::uint8_t* bgr,
-                          int stride_bytes) {
+bool FrameTarget::ReadBgr(const Context& context, const VideoFrame& background,
+                          std::uint8_t* bgr, int stride_bytes) {
   const int w = width_, h = height_;
   if (stride_bytes <= 0) stride_bytes = w * 3;
-  auto convert = [&](const std::uint8_t* src, int src_stride, bool rgba) {
-    for (int y = 0; y < h; ++y) {
-      const std::uint8_t* s = src + static_cast<size_t>(y) * src_stride;
-      std::uint8_t* d = bgr + static_cast<size_t>(y) * stride_bytes;
-      for (int x = 0; x < w; ++x, s += 4, d += 3) {
+  const glm::ivec4 r = window_;
+  // Outside the window: the background as it came.
+  const bool have_background = background.bgr != nullptr &&
+                               background.width == w && background.height == h;
+  const int bg_stride =
+      background.stride_bytes > 0 ? background.stride_bytes : w * 3;
+  auto outside = [&](int y, int x0, int x1) {
+    if (x1 <= x0) return;
+    std::uint8_t* d = bgr + static_cast<size_t>(y) * stride_bytes + 3 * x0;
+    if (have_background) {
+      std::memcpy(d,
+                  background.bgr + static_cast<size_t>(y) * bg_stride + 3 * x0,
+                  3 * static_cast<size_t>(x1 - x0));
+    } else {
+      std::memset(d, 0, 3 * static_cast<size_t>(x1 - x0));
+    }
+  };
+  const bool empty = r.z <= 0 || r.w <= 0;
+  for (int y = 0; y < h; ++y) {
+    if (empty || y < r.y || y >= r.y + r.w) {
+      outside(y, 0, w);
+    } else {
+      outside(y, 0, r.x);
+      outside(y, r.x + r.z, w);
+    }
+  }
+  if (empty) return true;
+  // `src` holds the window's rows (or the whole image's, `full`).
+  auto convert = [&](const std::uint8_t* src, int src_stride, bool rgba,
+                     bool full) {
+    for (int y = r.y; y < r.y + r.w; ++y) {
+      const std::uint8_t* s =
+          src + static_cast<size_t>(full ? y : y - r.y) * src_stride +
+          (full ? 4 * r.x : 0);
+      std::uint8_t* d = bgr + static_cast<size_t>(y) * stride_bytes + 3 * r.x;
+      for (int x = 0; x < r.z; ++x, s += 4, d += 3) {
         d[0] = rgba ? s[2] : s[0];
         d[1] = s[1];
         d[2] = rgba ? s[0] : s[2];
@@ -68,9 +109,11 @@ bool FrameTarget::ReadBgr(const Context& context, std::uint8_t* bgr,
     // first, and our FBO holds the image top row at GL row 0.
     glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo_.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    glBlitFramebuffer(0, 0, w, h, 0, 0, w, h, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    const int x1 = r.x + r.z, y1 = r.y + r.w;
+    glBlitFramebuffer(r.x, r.y, x1, y1, r.x, r.y, x1, y1, GL_COLOR_BUFFER_BIT,
+                      GL_NEAREST);
     glFinish();
-    convert(cpu, w * 4, true);
+    convert(cpu, w * 4, true, true);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return CheckGlError("Renderer::ReadBgr (OSMesa)");
   }
@@ -78,12 +121,13 @@ bool FrameTarget::ReadBgr(const Context& context, std::uint8_t* bgr,
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, pbo_.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadPixels(0, 0, w, h, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
-  const auto* data = static_cast<const std::uint8_t*>(
-      glMapBufferRange(GL_PIXEL_PACK_BUFFER, 0,
-                       static_cast<GLsizeiptr>(w) * h * 4, GL_MAP_READ_BIT));
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glReadPixels(r.x, r.y, r.z, r.w, GL_BGRA, GL_UNSIGNED_BYTE, nullptr);
+  const auto* data = static_cast<const std::uint8_t*>(glMapBufferRange(
+      GL_PIXEL_PACK_BUFFER, 0, static_cast<GLsizeiptr>(r.z) * r.w * 4,
+      GL_MAP_READ_BIT));
   const bool ok = data != nullptr;
-  if (ok) convert(data, w * 4, false);
+  if (ok) convert(data, r.z * 4, false, false);
   glUnmapBuffer(GL_PIXEL_PACK_BUFFER);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);

@@ -5,10 +5,12 @@
 #define RIPPLE_RENDER_FRAME_TARGET_H_
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string>
 
 #include "render/context.h"
 #include "render/gl_objects.h"
+#include "render/scene.h"
 
 namespace ripple::render::internal {
 
@@ -18,17 +20,24 @@ class FrameTarget {
   // (Re)allocates at `width` x `height` pixels and clears to black.
   bool Allocate(int width, int height, std::string* error);
   // Binds the FBO with its viewport and clears depth and stencil, and the
-  // colour (to black) too unless `keep_color`.
-  void BeginFrame(bool keep_color);
+  // colour (to black) too unless `keep_color`, inside `window` (x, y, w, h,
+  // pixels, top row first): the frame's pixels outside it are not drawn.
+  void BeginFrame(bool keep_color, const glm::ivec4& window);
   // Copies the image as BGR8, top row first, rows of `stride_bytes` (0 =
-  // width * 3). Uses OSMesa's own buffer when `context` has one of the
-  // output's size, a pixel-pack buffer otherwise. Blocks until done.
-  bool ReadBgr(const Context& context, std::uint8_t* bgr, int stride_bytes);
+  // width * 3): the window as drawn, and `background` (a frame of the
+  // output's size) outside it, or black without one. Uses OSMesa's own
+  // buffer when `context` has one of the output's size, a pixel-pack buffer
+  // otherwise. Blocks until done.
+  bool ReadBgr(const Context& context, const VideoFrame& background,
+               std::uint8_t* bgr, int stride_bytes);
+
+  const glm::ivec4& window() const { return window_; }
 
   GLuint fbo() const { return fbo_.id(); }
 
  private:
   int width_ = 0, height_ = 0;
+  glm::ivec4 window_{0};
   Framebuffer fbo_;
   Renderbuffer color_rb_, depth_rb_;
   Buffer pbo_;

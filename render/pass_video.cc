@@ -33,7 +33,14 @@ bool VideoBackgroundPass::AllocateOutput(int width, int height) {
   return ok;
 }
 
-void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k) {
+bool VideoBackgroundPass::DirectWindow(const VideoFrame& f,
+                                       const Intrinsics& k) const {
+  return f.bgr != nullptr && f.width == k.width && f.height == k.height &&
+         f.width % 4 == 0 && f.height % 4 == 0 && !k.HasDistortion();
+}
+
+void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k,
+                                 const glm::ivec4& window) {
   if (f.bgr == nullptr || f.width <= 0 || f.height <= 0) return;
   if (f.width != video_w_ || f.height != video_h_) {
     AllocTexture(&video_tex_, GL_RGBA8, f.width, f.height, GL_RGBA,
@@ -44,16 +51,26 @@ void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k) {
     video_h_ = f.height;
   }
   const int stride = f.stride_bytes > 0 ? f.stride_bytes : f.width * 3;
-  video_rgba_.resize(static_cast<size_t>(f.width) * f.height);
-  for (int y = 0; y < f.height; ++y) {
-    BgrToRgbaRow(f.bgr + static_cast<size_t>(y) * stride, f.width,
-                 video_rgba_.data() + static_cast<size_t>(y) * f.width);
+  // Only the window's pixels reach the output (the draw copies no more).
+  glm::ivec4 r(0, 0, f.width, f.height);
+  if (DirectWindow(f, k)) {
+    r.x = std::clamp(window.x, 0, f.width);
+    r.y = std::clamp(window.y, 0, f.height);
+    r.z = std::clamp(window.z, 0, f.width - r.x);
+    r.w = std::clamp(window.w, 0, f.height - r.y);
   }
-  glBindTexture(GL_TEXTURE_2D, video_tex_.id());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, f.width, f.height, GL_RGBA,
-                  GL_UNSIGNED_BYTE, video_rgba_.data());
+  video_rgba_.resize(static_cast<size_t>(r.z) * r.w);
+  for (int y = 0; y < r.w; ++y) {
+    BgrToRgbaRow(f.bgr + static_cast<size_t>(r.y + y) * stride + 3 * r.x, r.z,
+                 video_rgba_.data() + static_cast<size_t>(y) * r.z);
+  }
+  if (r.z > 0 && r.w > 0) {
+    glBindTexture(GL_TEXTURE_2D, video_tex_.id());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, r.x, r.y, r.z, r.w, GL_RGBA,
+                    GL_UNSIGNED_BYTE, video_rgba_.data());
+  }
   have_video_ = true;
   // With lens distortion the map is made from the distorted frame: a few
   // pixels of shift in a blurred quarter-size map that only feeds the
@@ -63,7 +80,8 @@ void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k) {
   if (reflection_from_cpu_) {
     const int rw = f.width / 4, rh = f.height / 4;
     reflection_rgba_.resize(static_cast<size_t>(rw) * rh);
-    QuarterRgba(video_rgba_.data(), f.width, f.height, reflection_rgba_.data());
+    QuarterRgbaFromBgr(f.bgr, stride, f.width, f.height,
+                       reflection_rgba_.data());
     glBindTexture(GL_TEXTURE_2D, reflection_tex_.id());
     glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE,
                     reflection_rgba_.data());
@@ -71,7 +89,7 @@ void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k) {
 }
 
 void VideoBackgroundPass::Draw(const Intrinsics& k, GLuint target,
-                               bool reflection) {
+                               bool reflection, const glm::ivec4& window) {
   if (!have_video_) return;
   const int w = k.width, h = k.height;
   if (k.HasDistortion()) {
@@ -94,8 +112,15 @@ void VideoBackgroundPass::Draw(const Intrinsics& k, GLuint target,
     // instead of drawing a textured quad (1.5 ms at 640x480 on llvmpipe).
     glBindFramebuffer(GL_READ_FRAMEBUFFER, video_fbo_.id());
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target);
-    glBlitFramebuffer(0, 0, video_w_, video_h_, 0, 0, w, h, GL_COLOR_BUFFER_BIT,
-                      video_w_ == w && video_h_ == h ? GL_NEAREST : GL_LINEAR);
+    if (video_w_ == w && video_h_ == h) {
+      const int x0 = window.x, y0 = window.y;
+      const int x1 = x0 + window.z, y1 = y0 + window.w;
+      glBlitFramebuffer(x0, y0, x1, y1, x0, y0, x1, y1, GL_COLOR_BUFFER_BIT,
+                        GL_NEAREST);
+    } else {
+      glBlitFramebuffer(0, 0, video_w_, video_h_, 0, 0, w, h,
+                        GL_COLOR_BUFFER_BIT, GL_LINEAR);
+    }
   }
   if (reflection && !reflection_from_cpu_) {
     glBindFramebuffer(GL_READ_FRAMEBUFFER, target);

@@ -8,6 +8,7 @@
 #define RIPPLE_RENDER_PASS_VIDEO_H_
 
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
@@ -25,15 +26,25 @@ class VideoBackgroundPass {
   // (Re)allocates what has the output's size (the reflection map).
   bool AllocateOutput(int width, int height);
 
-  // Converts and uploads `frame` (no-op for a null frame). With a frame of
-  // the output's size (a multiple of 4, no distortion) the reflection map is
-  // made from it on the CPU, sparing the main pass a downsampling blit.
-  void Upload(const VideoFrame& frame, const Intrinsics& k);
+  // Converts and uploads `frame` (no-op for a null frame): all of it, or
+  // only `window` (x, y, w, h, pixels, top row first) when that is all the
+  // output needs (DirectWindow). With a frame of the output's size (a
+  // multiple of 4, no distortion) the reflection map is made from the whole
+  // frame on the CPU, sparing the main pass a downsampling blit.
+  void Upload(const VideoFrame& frame, const Intrinsics& k,
+              const glm::ivec4& window);
+
+  // Whether the output can be the video outside a window: the frame has the
+  // output's size and no lens to undo, and the reflection map comes from
+  // the CPU (a blit would read the whole output).
+  bool DirectWindow(const VideoFrame& frame, const Intrinsics& k) const;
 
   // Draws the video into `target` (k.width x k.height), undistorted with
   // k's lens model, and the reflection map from it when `reflection` (unless
-  // Upload already made it). Nothing is drawn before any video arrived.
-  void Draw(const Intrinsics& k, GLuint target, bool reflection);
+  // Upload already made it); a direct copy only inside `window`. Nothing is
+  // drawn before any video arrived.
+  void Draw(const Intrinsics& k, GLuint target, bool reflection,
+            const glm::ivec4& window);
 
   bool have_video() const { return have_video_; }
   GLuint reflection_texture() const { return reflection_tex_.id(); }

@@ -82,4 +82,24 @@ void QuarterRgba(const std::uint32_t* src, int w, int h, std::uint32_t* out) {
   }
 }
 
+void QuarterRgbaFromBgr(const std::uint8_t* bgr, int stride, int w, int h,
+                        std::uint32_t* out) {
+  const int rw = w / 4, rh = h / 4;
+  for (int j = 0; j < rh; ++j) {
+    const std::uint8_t* r0 = bgr + static_cast<size_t>(4 * j + 1) * stride;
+    const std::uint8_t* r1 = r0 + stride;
+    auto* o =
+        reinterpret_cast<std::uint8_t*>(out + static_cast<size_t>(j) * rw);
+    for (int i = 0; i < rw; ++i) {
+      const int x = 3 * (4 * i + 1);
+      for (int c = 0; c < 3; ++c) {
+        // BGR in, RGBA out.
+        o[4 * i + 2 - c] = static_cast<std::uint8_t>(
+            (r0[x + c] + r0[x + 3 + c] + r1[x + c] + r1[x + 3 + c] + 2) >> 2);
+      }
+      o[4 * i + 3] = 255;
+    }
+  }
+}
+
 }  // namespace ripple::render::internal

@@ -18,6 +18,12 @@ void BgrToRgbaRow(const std::uint8_t* bgr, int n, std::uint32_t* out);
 // that 2x2 block (rounded; the GPU's 8-bit lerps may differ by 1).
 void QuarterRgba(const std::uint32_t* src, int w, int h, std::uint32_t* out);
 
+// The same quarter-size RGBA8 image straight from a BGR8 frame (rows
+// `stride` bytes apart): equal, byte for byte, to QuarterRgba of the frame's
+// BgrToRgbaRow conversion, without converting the whole frame.
+void QuarterRgbaFromBgr(const std::uint8_t* bgr, int stride, int w, int h,
+                        std::uint32_t* out);
+
 }  // namespace ripple::render::internal
 
 #endif  // RIPPLE_RENDER_PIXEL_CONVERT_H_

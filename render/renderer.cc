@@ -100,6 +100,10 @@ struct Renderer::Impl {
   internal::MirrorPass mirror;
   internal::RealObjectsState real_state;
   PassTimer timer;
+  // The last video frame given (the caller's buffer) and the window it was
+  // uploaded for: a null frame keeps both.
+  VideoFrame last_video;
+  glm::ivec4 last_window{0};
 
   // The water's optics for the scene's light and depth, recomputed only
   // when they change (ComputeWaterShading integrates over the sky).
@@ -109,6 +113,10 @@ struct Renderer::Impl {
   WaterShading shading;
 
   bool Init(std::string* error);
+  // This frame's output window (PassTimings::window) for `video`: the
+  // whole frame unless the rest can be the video as it came; `f` null: a
+  // frame of video only. Remembers the video for ReadBgr.
+  glm::ivec4 Window(const VideoFrame& video, const internal::FrameState* f);
   bool AllocateOutput(std::string* error);
   void BindFrameTextures();
   void StartTimings();
@@ -168,6 +176,22 @@ const WaterShading& Renderer::Impl::Shading(const SceneInputs& scene) {
     shading = ComputeWaterShading(options.optics, shading_depth, shading_light);
   }
   return shading;
+}
+
+glm::ivec4 Renderer::Impl::Window(const VideoFrame& video,
+                                  const internal::FrameState* f) {
+  const glm::ivec4 whole(0, 0, k.width, k.height);
+  if (video.bgr == nullptr) return last_video.bgr ? last_window : whole;
+  last_video = video;
+  // A window (GLFW) shows the FBO itself (Present): all of it is drawn.
+  if (options.full_frame_output || context->backend() == Backend::kGlfw ||
+      !this->video.DirectWindow(video, k)) {
+    last_window = whole;
+  } else {
+    // Two pixels of margin for the edges' linear filtering.
+    last_window = f ? internal::OutputWindow(*f, 2) : glm::ivec4(0);
+  }
+  return last_window;
 }
 
 bool Renderer::Impl::AllocateOutput(std::string* error) {
@@ -252,9 +276,11 @@ bool Renderer::Render(const SceneInputs& scene) {
   internal::FrameState f = internal::MakeFrameState(
       scene, m.k, m.options.optics, m.options.video_transfer);
   f.shading = m.Shading(scene);
+  const glm::ivec4 window = m.Window(scene.video, &f);
+  m.timings.window = window;
 
   // Inputs: video, height field, wall mesh (each only if it changed).
-  m.video.Upload(scene.video, m.k);
+  m.video.Upload(scene.video, m.k, window);
   m.timings.surface_uploaded = m.height.Update(scene);
   f.height = m.height.info();
   m.walls_mesh.Update(scene.tank);
@@ -280,8 +306,8 @@ bool Renderer::Render(const SceneInputs& scene) {
   // of the main pass makes llvmpipe flush it. The pen's colour comes from
   // the last frame's scene copy (one frame old; the pen moves little).
   m.mirror.Draw(f, m.target.fbo(), m.obstacles.scene_texture(), m.solids);
-  m.video.Draw(m.k, m.target.fbo(), fx.reflection);
-  m.target.BeginFrame(/*keep_color=*/m.video.have_video());
+  m.video.Draw(m.k, m.target.fbo(), fx.reflection, window);
+  m.target.BeginFrame(/*keep_color=*/m.video.have_video(), window);
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
@@ -303,11 +329,15 @@ bool Renderer::RenderVideoOnly(const VideoFrame& video) {
   Impl& m = *impl_;
   const auto t_start = Clock::now();
   m.StartTimings();
-  m.video.Upload(video, m.k);
+  // Nothing is drawn over the video: no window, unless the whole frame
+  // must go through GL.
+  const glm::ivec4 window = m.Window(video, nullptr);
+  m.timings.window = window;
+  m.video.Upload(video, m.k, window);
   m.timings.upload_ms = MsSince(t_start);
   m.timer.Begin(PassTimer::kMain);
-  m.video.Draw(m.k, m.target.fbo(), /*reflection=*/false);
-  if (!m.video.have_video()) m.target.BeginFrame(/*keep_color=*/false);
+  m.video.Draw(m.k, m.target.fbo(), /*reflection=*/false, window);
+  m.target.BeginFrame(/*keep_color=*/m.video.have_video(), window);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   m.timings.main_ms = m.timer.End(PassTimer::kMain);
   if (m.options.timing == RendererOptions::Timing::kGpuQueries) {
@@ -320,7 +350,8 @@ bool Renderer::RenderVideoOnly(const VideoFrame& video) {
 void Renderer::Finish() { glFinish(); }
 
 bool Renderer::ReadBgr(std::uint8_t* bgr, int stride_bytes) {
-  return impl_->target.ReadBgr(*impl_->context, bgr, stride_bytes);
+  return impl_->target.ReadBgr(*impl_->context, impl_->last_video, bgr,
+                               stride_bytes);
 }
 
 void Renderer::SetOverlay(const std::uint8_t* bgra, int width, int height,

@@ -104,6 +104,14 @@ struct RendererOptions {
   // shadow map).
   bool pen_casts_shadow = false;
   glm::vec3 obstacle_albedo{0.80f, 0.76f, 0.70f};  // linear RGB
+  // false: only the output's window (the tank's box and the obstacles'
+  // boxes on screen) goes through GL; the rest of the output is the video as
+  // it came, copied by ReadBgr. A webcam frame is mostly table, so this
+  // spares most of the upload, blit, clears and read-back at high
+  // resolutions. true: every pixel is drawn. A GLFW window (Present shows
+  // the FBO) and a lens with distortion (the output is the undistorted
+  // video) always take the whole frame.
+  bool full_frame_output = false;
 
   enum class Timing {
     kNone,        // only CPU-side timings (uploads, caustics)
@@ -122,6 +130,9 @@ struct PassTimings {
   double caustics_ms = 0;  // CPU caustics map + upload (0 when skipped)
   double main_ms = 0;      // main pass incl. undistortion
   double total_ms = 0;     // CPU wall time of Render()
+  // The output's window this frame (x, y, w, h, pixels, top row first):
+  // what went through GL; the whole frame, or less (full_frame_output).
+  glm::ivec4 window{0};
   bool shadow_redrawn = false;
   bool caustics_recomputed = false;
   bool surface_uploaded = false;
@@ -169,7 +180,9 @@ class Renderer {
 
   // Copies the last frame as BGR8, top row first, into `bgr` (rows of
   // `stride_bytes`, 0 = width * 3). Blocks until the frame is finished. Uses
-  // OSMesa's own buffer on OSMesa, a pixel-pack buffer otherwise.
+  // OSMesa's own buffer on OSMesa, a pixel-pack buffer otherwise. Outside
+  // the output's window (PassTimings::window) the pixels are copied from the
+  // last video frame given, whose buffer must still hold it.
   bool ReadBgr(std::uint8_t* bgr, int stride_bytes = 0);
 
   // Sets the HUD overlay that Present() draws over the frame: BGRA8

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "app/app_loop.h"
+#include "app/app_synth_source.h"
 #include "tests/shipped_data.h"
 
 namespace ripple::app {
@@ -135,6 +136,85 @@ TEST_F(FrameLoopTest, SourceFailureIsReportedAfterTheFramesBeforeIt) {
   EXPECT_EQ(summary.frames, 2);
   EXPECT_EQ(summary.source_error, "scripted failure");
   EXPECT_EQ(sink.closed, 1);
+}
+
+// Tracking frame n + 1 beside frame n's render changes nothing but the
+// timing: the same poses and the same composites as tracking each frame
+// first, and each frame's latency adds the frame it was tracked during.
+TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
+  const tracking::Camera camera = test_data::DefaultCamera().Scaled(320, 240);
+  const tracking::Rig rig = test_data::DefaultRig();
+  synth::SequenceOptions seq;
+  seq.preset = "demo";
+  seq.frames = 12;
+  std::vector<synth::FrameSpec> specs;
+  std::string error;
+  ASSERT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
+  struct Run {
+    std::vector<tracking::FrameResult> tracking;
+    std::vector<cv::Mat> composites;
+    std::vector<bench::StageTimes> times;
+  };
+  auto run = [&](bool overlap, Run* out) {
+    PipelineOptions options;
+    options.backend = render::Backend::kEgl;
+    options.overlap_tracking = overlap;
+    // The light estimate runs on its own schedule: fixed here.
+    options.fixed_light = Eigen::Vector3d(0.3, 0.2, 0.9).normalized();
+    std::string error;
+    auto pipeline = Pipeline::Create(camera, rig, options, &error);
+    if (!pipeline) return false;
+    SynthSource source(camera, rig, specs);
+    FunctionSink sink([&](const LoopFrame& f, LoopStop*) {
+      out->tracking.push_back(f.report->tracking);
+      out->composites.push_back(f.pipeline->composite().clone());
+      out->times.push_back(f.report->times);
+      return true;
+    });
+    struct ReadBack : FrameSink {
+      bool WantsComposite(int) const override { return true; }
+      bool Consume(const LoopFrame&, LoopStop*) override { return true; }
+    } read_back;
+    FrameLoopSummary summary;
+    RunFrameLoop(FrameLoopHooks(), &source, nullptr, pipeline.get(),
+                 {&read_back, &sink}, &summary);
+    return summary.frames == seq.frames && !summary.stopped;
+  };
+  Run first, beside;
+  if (!run(false, &first)) GTEST_SKIP() << "no headless GL context";
+  ASSERT_TRUE(run(true, &beside));
+  int tracked = 0;
+  for (int i = 0; i < seq.frames; ++i) {
+    SCOPED_TRACE(i);
+    const tracking::FrameResult &a = first.tracking[i], &b = beside.tracking[i];
+    ASSERT_EQ(a.tank.has_pose(), b.tank.has_pose());
+    ASSERT_EQ(a.pen.has_pose(), b.pen.has_pose());
+    if (a.tank.has_pose()) {
+      EXPECT_EQ(a.tank.cam_from_object->translation,
+                b.tank.cam_from_object->translation);
+      ++tracked;
+    }
+    if (a.pen.has_pose())
+      EXPECT_EQ(a.pen.cam_from_object->translation,
+                b.pen.cam_from_object->translation);
+    EXPECT_EQ(cv::norm(first.composites[i], beside.composites[i], cv::NORM_INF),
+              0.0);
+    EXPECT_DOUBLE_EQ(first.times[i].lat, first.times[i].total);
+    const double before = i > 0 ? beside.times[i - 1].total : 0.0;
+    EXPECT_DOUBLE_EQ(beside.times[i].lat, beside.times[i].total + before);
+  }
+  EXPECT_GT(tracked, seq.frames / 2);
+}
+
+// The detector's decimation follows the webcam's mode.
+TEST(QuadDecimateTest, OneStepPer240RowsNeverBelowTheSetting) {
+  EXPECT_EQ(QuadDecimateForHeight(480, 2.0), 2.0);
+  EXPECT_EQ(QuadDecimateForHeight(720, 2.0), 3.0);
+  EXPECT_EQ(QuadDecimateForHeight(1080, 2.0), 4.0);
+  EXPECT_EQ(QuadDecimateForHeight(240, 2.0), 2.0);
+  EXPECT_EQ(QuadDecimateForHeight(120, 1.0), 1.0);
+  EXPECT_EQ(QuadDecimateForHeight(720, 1.5), 3.0);
+  EXPECT_EQ(QuadDecimateForHeight(100000, 2.0), 8.0);
 }
 
 TEST_F(FrameLoopTest, PausedTurnsNeitherReadNorProcess) {

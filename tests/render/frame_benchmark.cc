@@ -47,15 +47,16 @@ struct Fixture {
 
 std::unique_ptr<Fixture> Make(benchmark::State& state, Backend backend,
                               bool distorted = false,
-                              const RendererOptions& options = {}) {
+                              const RendererOptions& options = {},
+                              int width = kW, int height = kH) {
   auto f = std::make_unique<Fixture>();
   std::string error;
-  f->ctx = Context::TryCreate(backend, kW, kH, &error, false);
+  f->ctx = Context::TryCreate(backend, width, height, &error, false);
   if (f->ctx == nullptr) {
     state.SkipWithError(("no GL context: " + error).c_str());
     return nullptr;
   }
-  f->scene = testing::MakeScene(kW, kH, testing::View::kFront, true);
+  f->scene = testing::MakeScene(width, height, testing::View::kFront, true);
   // A typical webcam lens (the shipped default calibration has none): the
   // video is then undistorted by a shader pass instead of copied.
   if (distorted) f->scene.k.dist = {-0.12, 0.08, 0.0005, -0.0003, -0.02};
@@ -217,6 +218,48 @@ BENCHMARK(BM_ShadowFilter)
     ->Arg(int(ShadowFilter::kPcf))
     ->Arg(int(ShadowFilter::kGauss))
     ->Arg(int(ShadowFilter::kHard))
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+// A webcam's modes: the whole frame as the pipeline runs it (render, wait,
+// read back into a BGR image) at each size, with the same field of view.
+// Effects as in kFullChanging (water and pen change every frame).
+void BM_FrameAtSize(benchmark::State& state) {
+  const int w = static_cast<int>(state.range(0));
+  const int h = static_cast<int>(state.range(1));
+  auto f = Make(state, Backend::kEgl, false, {}, w, h);
+  if (!f) return;
+  SceneInputs& in = f->scene.inputs;
+  std::vector<std::uint8_t> out(static_cast<size_t>(w) * h * 3);
+  f->renderer->Render(in);
+  f->renderer->ReadBgr(out.data());
+  double frames = 0, upload_ms = 0, render_cpu = 0, read_cpu = 0;
+  const double cpu0 = ProcessCpuMs();
+  for (auto _ : state) {
+    in.water.change_counter++;
+    in.tank_from_pen[3].x += (int(frames) % 2 ? -0.002 : 0.002);
+    const double c0 = ProcessCpuMs();
+    f->renderer->Render(in);
+    f->renderer->Finish();
+    const double c1 = ProcessCpuMs();
+    f->renderer->ReadBgr(out.data());
+    benchmark::DoNotOptimize(out.data());
+    read_cpu += ProcessCpuMs() - c1;
+    render_cpu += c1 - c0;
+    upload_ms += f->renderer->timings().upload_ms;
+    ++frames;
+  }
+  state.counters["process_cpu_ms"] = (ProcessCpuMs() - cpu0) / frames;
+  state.counters["render_cpu_ms"] = render_cpu / frames;
+  state.counters["read_cpu_ms"] = read_cpu / frames;
+  state.counters["upload_ms"] = upload_ms / frames;
+}
+BENCHMARK(BM_FrameAtSize)
+    ->ArgNames({"w", "h"})
+    ->Args({640, 480})
+    ->Args({1280, 720})
+    ->Args({1920, 1080})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

@@ -116,8 +116,8 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
 
 const std::vector<std::string>& RenderSceneNames() {
   static const std::vector<std::string> names = {
-      "flat",  "ring", "demo_a", "demo_b",  "demo_c",
-      "tiles", "pen",  "hand",   "grazing", "lens"};
+      "flat", "ring", "demo_a",  "demo_b", "demo_c", "tiles",
+      "pen",  "hand", "grazing", "lens",   "room"};
   return names;
 }
 
@@ -268,6 +268,26 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     s.scene.camera.dist = {-0.28, 0.09, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     s.heights = Ring(s.scene.scene.tank, cell, 0.0004, 0.008, 0.02, ring_x,
                      ring_y, &s.scene.scene.water);
+    scenes->push_back(s);
+  }
+  {
+    // The demo's water, pen and pillar in a room whose walls (striped,
+    // a colour each) the camera sees beyond the board's far edge and the
+    // water and the glass reflect: the surroundings the reflection maps
+    // fold from the video are really there.
+    RenderBenchScene s = make(
+        "room", "the demo's water, pen and pillar in a striped room", true);
+    s.heights = demo[1].heights;
+    s.scene.scene.water = demo[1].view;
+    s.scene.scene.obstacles = obstacles;
+    if (demo[1].tank_from_pen) {
+      s.scene.scene.pen_visible = true;
+      s.scene.scene.tank_from_pen = ToGlm(*demo[1].tank_from_pen);
+    }
+    s.scene.room.on = true;
+    s.scene.room.half_x = 0.30;
+    s.scene.room.half_y = 0.34;
+    s.scene.room.height = 0.5;
     scenes->push_back(s);
   }
   RIPPLE_CHECK(scenes->size() == RenderSceneNames().size(),

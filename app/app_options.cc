@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -31,9 +32,11 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_option("--water-look", args->water_look,
                   "Water optics: clear (pure water, Pope & Fry absorption; "
                   "default) or pool (stylised cyan tint)");
-  sub->add_option("--ambient", args->ambient,
-                  "Share of the board's light from the sky, 0..1 (default "
-                  "0.3): the floor's brightness in full shadow");
+  sub->add_option(
+      "--ambient", args->ambient,
+      "Share of the board's light from the sky, 0..1 (default "
+      "0.3; with --sun the daylight model's): the floor's brightness in full "
+      "shadow");
   sub->add_option("--light-size", args->light_size_deg,
                   "Angular radius of the light, degrees (default 2): the "
                   "size of the glints on the ripples");
@@ -52,6 +55,16 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
                   "With --sun: compass bearing of the board's +y axis, "
                   "degrees clockwise from true north (default 0: +y north, "
                   "+x east)");
+  sub->add_option("--turbidity", args->turbidity,
+                  "With --sun: atmospheric turbidity of the Preetham sky, "
+                  "1.7..10 (2 very clear, 3 clear, 6 hazy)")
+      ->capture_default_str();
+  sub->add_option("--reflection", args->reflection,
+                  "Where reflections find the surroundings: fold (the frame "
+                  "folded flat around the reflected ray's point; the default) "
+                  "or cubemap (an environment cube map folded from the frame, "
+                  "rebuilt when the view changes)")
+      ->capture_default_str();
   sub->add_flag("--no-occluders", args->no_occluders,
                 "Draw the water over everything: no clean plate of the "
                 "board, no hands or objects kept in front of the tank");
@@ -151,9 +164,25 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
     if (!ParseLightDirection(args->light, &light, error)) return false;
     o.fixed_light = light;
   }
+  if (!render::ParseReflectionMap(args->reflection,
+                                  &o.renderer.reflection_map)) {
+    if (error)
+      *error = "--reflection '" + args->reflection + "': use fold or cubemap";
+    return false;
+  }
+  std::optional<render::Daylight> daylight;
   if (!args->sun.empty()) {
     Eigen::Vector3d light;
-    if (!SunLightInTank(args->sun, args->north_deg, &light, error))
+    render::SkyOptions sky;
+    sky.turbidity = args->turbidity;
+    std::string why;
+    if (!sky.IsValid(&why)) {
+      if (error) *error = "--turbidity: " + why;
+      return false;
+    }
+    daylight.emplace();
+    if (!SunLightInTank(args->sun, args->north_deg, sky, &light, &*daylight,
+                        error))
       return false;
     o.fixed_light = light;
   }
@@ -172,6 +201,15 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
       return false;
     }
     optics.ambient_share = static_cast<float>(args->ambient);
+  }
+  if (daylight) {
+    // The sky's share from the model unless --ambient gives it.
+    // Below the horizon there is no direct light whatever --ambient says.
+    if (!std::isnan(args->ambient) && daylight->sun_up)
+      daylight->ambient_share = optics.ambient_share;
+    render::SetDaylight(*daylight, &optics);
+    o.renderer.daylight = daylight;
+    o.renderer.daylight_north_deg = args->north_deg;
   }
   if (!std::isnan(args->light_size_deg)) {
     if (!(args->light_size_deg >= 0.01 && args->light_size_deg <= 20)) {

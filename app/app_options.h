@@ -34,7 +34,9 @@ struct PipelineArgs {
   // --north: the bearing of the board's +y, degrees clockwise from north.
   std::string sun;
   double north_deg = 0;
-  std::string shadows = "pcf";                // --shadows pcf | gauss | hard
+  double turbidity = 3;             // --turbidity: the sky model's, with --sun
+  std::string reflection = "fold";  // --reflection fold | cubemap
+  std::string shadows = "pcf";      // --shadows pcf | gauss | hard
   double shadow_sigma_texels = std::nan("");  // --shadow-sigma; NaN: default
 };
 

@@ -116,8 +116,8 @@ bool RunDemoWater(const tracking::Camera& camera, const tracking::Rig& rig,
 
 const std::vector<std::string>& RenderSceneNames() {
   static const std::vector<std::string> names = {
-      "flat",  "ring", "demo_a", "demo_b",  "demo_c",
-      "tiles", "pen",  "hand",   "grazing", "lens"};
+      "flat", "ring", "demo_a",  "demo_b", "demo_c", "tiles",
+      "pen",  "hand", "grazing", "lens",   "room"};
   return names;
 }
 
@@ -192,6 +192,16 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
   std::vector<DemoSnapshot> demo;
   if (!RunDemoWater(camera, rig, {60, 120, 158}, &demo, error)) return false;
   const char* demo_names[] = {"demo_a", "demo_b", "demo_c"};
+  // The demo's water and pen at a snapshot, and the rig's obstacles.
+  auto with_demo = [&](const DemoSnapshot& d, RenderBenchScene* s) {
+    s->heights = d.heights;
+    s->scene.scene.water = d.view;
+    s->scene.scene.obstacles = obstacles;
+    if (d.tank_from_pen) {
+      s->scene.scene.pen_visible = true;
+      s->scene.scene.tank_from_pen = ToGlm(*d.tank_from_pen);
+    }
+  };
   for (size_t i = 0; i < demo.size(); ++i) {
     RenderBenchScene s = make(demo_names[i],
                               "the demo's water and pen, frame " +
@@ -200,13 +210,7 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
                                                           : 158) +
                                   ", tiles, obstacles",
                               true);
-    s.heights = demo[i].heights;
-    s.scene.scene.water = demo[i].view;
-    s.scene.scene.obstacles = obstacles;
-    if (demo[i].tank_from_pen) {
-      s.scene.scene.pen_visible = true;
-      s.scene.scene.tank_from_pen = ToGlm(*demo[i].tank_from_pen);
-    }
+    with_demo(demo[i], &s);
     scenes->push_back(s);
   }
   {
@@ -229,13 +233,7 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     // tank's left half, facing the camera, over the demo's water and pen.
     RenderBenchScene s = make(
         "hand", "a hand over the tank, the demo's water, pen and pillar", true);
-    s.heights = demo[1].heights;
-    s.scene.scene.water = demo[1].view;
-    s.scene.scene.obstacles = obstacles;
-    if (demo[1].tank_from_pen) {
-      s.scene.scene.pen_visible = true;
-      s.scene.scene.tank_from_pen = ToGlm(*demo[1].tank_from_pen);
-    }
+    with_demo(demo[1], &s);
     const glm::dvec3 eye(glm::inverse(front)[3]);
     const glm::dvec3 centre(-0.045, 0.005, 0.06);
     const glm::dvec3 view = glm::normalize(centre - eye);
@@ -268,6 +266,20 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     s.scene.camera.dist = {-0.28, 0.09, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0};
     s.heights = Ring(s.scene.scene.tank, cell, 0.0004, 0.008, 0.02, ring_x,
                      ring_y, &s.scene.scene.water);
+    scenes->push_back(s);
+  }
+  {
+    // The demo's water, pen and pillar in a room whose walls (striped,
+    // a colour each) the camera sees beyond the board's far edge and the
+    // water and the glass reflect: the surroundings the reflection maps
+    // fold from the video are really there.
+    RenderBenchScene s = make(
+        "room", "the demo's water, pen and pillar in a striped room", true);
+    with_demo(demo[1], &s);
+    s.scene.room.on = true;
+    s.scene.room.half_x = 0.30;
+    s.scene.room.half_y = 0.34;
+    s.scene.room.height = 0.5;
     scenes->push_back(s);
   }
   RIPPLE_CHECK(scenes->size() == RenderSceneNames().size(),

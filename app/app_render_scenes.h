@@ -39,7 +39,8 @@ struct RenderScenesOptions {
 // options' size; distortion is dropped except in the lens scene) and `rig`
 // (tank, pen, obstacles, board tags): flat, ring (0.4 mm, 8 mm), three
 // frames of the demo's water (the demo script driving the default water
-// model), tiled floor, shadowed pen, grazing view, distorting lens. False
+// model), tiled floor, shadowed pen, grazing view, distorting lens, the
+// demo's water in a room whose walls the water reflects. False
 // with `error` on a rig without a tank or pen, or a failing water model.
 bool MakeRenderScenes(const RenderScenesOptions& options,
                       const tracking::Camera& camera, const tracking::Rig& rig,

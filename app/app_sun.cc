@@ -1,5 +1,6 @@
 #include "app/app_sun.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <exception>
@@ -15,7 +16,8 @@ Eigen::Vector3d TankFromEnu(const render::EnuDirection& d, double north_deg) {
 }
 
 bool SunLightInTank(const std::string& text, double north_deg,
-                    Eigen::Vector3d* light, std::string* error) {
+                    const render::SkyOptions& sky, Eigen::Vector3d* light,
+                    render::Daylight* daylight, std::string* error) {
   auto fail = [&](const std::string& why) {
     if (error) *error = "--sun '" + text + "': " + why;
     return false;
@@ -46,14 +48,13 @@ bool SunLightInTank(const std::string& text, double north_deg,
     return fail(why);
   render::SolarPosition sun;
   if (!render::ComputeSolarPosition(lat, lon, jd, &sun, &why)) return fail(why);
-  if (sun.BelowHorizon()) {
-    char line[96];
-    std::snprintf(line, sizeof(line),
-                  "the sun is below the horizon then (elevation %.1f deg)",
-                  sun.apparent_elevation_deg);
-    return fail(line);
-  }
-  *light = TankFromEnu(sun.apparent_direction_enu, north_deg).normalized();
+  if (!render::ComputeDaylight(sky, sun.apparent_direction_enu, daylight, &why))
+    return fail(why);
+  const double elevation = std::max(sun.apparent_elevation_deg, 1.0);
+  *light =
+      TankFromEnu(render::EnuFromAzimuthElevation(sun.azimuth_deg, elevation),
+                  north_deg)
+          .normalized();
   return true;
 }
 

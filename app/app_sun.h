@@ -20,11 +20,15 @@ Eigen::Vector3d TankFromEnu(const render::EnuDirection& d, double north_deg);
 
 // --sun LAT,LON,DATETIME (degrees north and east; an ISO 8601 date-time with
 // its zone, render/sun.h's ParseIsoDateTime) as the unit vector towards the
-// sun's apparent position in the tank frame (TankFromEnu). False with
-// `error` naming the option for malformed input, a place out of range, or a
-// sun below the horizon then.
+// sun's apparent position in the tank frame (TankFromEnu) and the daylight
+// for it and `sky` (render/sun.h, ComputeDaylight). Below the horizon the
+// sun is off (daylight->sun_up false, ambient share 1) and `light` keeps its
+// azimuth at 1 degree of elevation (it then casts nothing: the direct light
+// is 0). False with `error` naming the option for malformed input, a place
+// out of range or invalid sky options.
 bool SunLightInTank(const std::string& text, double north_deg,
-                    Eigen::Vector3d* light, std::string* error);
+                    const render::SkyOptions& sky, Eigen::Vector3d* light,
+                    render::Daylight* daylight, std::string* error);
 
 }  // namespace ripple::app
 

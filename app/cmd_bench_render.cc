@@ -38,6 +38,9 @@ struct RenderBenchArgs {
   std::string export_dir;
   std::string water_look = "clear";
   std::string shadows = "pcf";  // the real-time renderer's shadow filter
+  // The real-time renderer's reflection map: fold, cubemap, or both (the
+  // table with the fold, and the cube map against the same reference).
+  std::string reflection = "fold";
   int samples_per_pixel = 64;
   int light_paths_per_texel = 64;
   int sky_rays = 4;
@@ -97,6 +100,11 @@ struct SceneResult {
   // changes by more than 3 levels, grown by 6 px, inside the water; -1:
   // none. Compares the shadow filters (--shadows) at their edges.
   double flip_shadow = -1;
+  // FLIP where the reflection matters: the pixels that reflection on or off
+  // changes by more than 3 levels, inside the water; -1: none. Compares the
+  // reflection maps (--reflection).
+  double flip_reflection = -1;
+  double envmap_ms = 0;  // the cube map's rebuild (0 for the fold)
 };
 
 // The real objects as the pipeline sees them: a clean plate learned from
@@ -253,6 +261,18 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!render::ParseShadowFilter(args.shadows, &shadow_filter))
     return Fail(kExitBadInput,
                 "--shadows '" + args.shadows + "': use pcf, gauss or hard");
+  render::ReflectionMap reflection_map = render::ReflectionMap::kFold;
+  const bool both_maps = args.reflection == "both";
+  if (!both_maps &&
+      !render::ParseReflectionMap(args.reflection, &reflection_map))
+    return Fail(kExitBadInput, "--reflection '" + args.reflection +
+                                   "': use fold, cubemap or both");
+  // --reflection both: per scene, the cube map against the same reference.
+  struct MapRow {
+    std::string scene;
+    double flip[2], open[2], refl[2], main_ms[2], envmap_ms;
+  };
+  std::vector<MapRow> map_rows;
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
 
@@ -279,6 +299,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
   ro.optics = render::WaterOptics::ForLook(look);
   ro.shadow_filter = shadow_filter;
+  ro.reflection_map = reflection_map;
   const render::WaterOptics& optics = ro.optics;
 
   reference::ReferenceOptions refo;
@@ -296,22 +317,23 @@ int RunBenchRender(const RenderBenchArgs& args) {
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
-         "flip_hand_without_mask,flip_shadow,main_ms,caustics_ms,shadow_ms,"
-         "reference_s\n";
+         "flip_hand_without_mask,flip_shadow,flip_reflection,main_ms,"
+         "caustics_ms,shadow_ms,envmap_ms,reference_s\n";
   std::printf(
-      "mean LDR-FLIP inside the water, real-time against the "
-      "reference (%dx%d, %d spp, %d light paths per texel)\n",
-      size.width, size.height, refo.samples_per_pixel,
+      "mean LDR-FLIP inside the water, real-time (reflection %s) against "
+      "the reference (%dx%d, %d spp, %d light paths per texel)\n",
+      args.reflection.c_str(), size.width, size.height, refo.samples_per_pixel,
       refo.light_paths_per_texel);
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
-  std::printf(" | %6s | %6s %6s %6s %6s %6s | %6s %6s %6s | %6s\n", "noise",
-              "pen", "hand", "pen", "hand", "shadow", "main", "caust", "shadow",
-              "ref_s");
+  std::printf(" | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s %6s %6s | %6s\n",
+              "noise", "pen", "hand", "pen", "hand", "shadow", "refl", "main",
+              "caust", "shadow", "envmap", "ref_s");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
-  std::printf(" | %6s | %6s %6s %6s %6s %6s | %6s %6s %6s |\n", "floor", "FLIP",
-              "FLIP", "plain", "plain", "FLIP", "ms", "ms", "ms");
+  std::printf(" | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s %6s %6s |\n", "floor",
+              "FLIP", "FLIP", "plain", "plain", "FLIP", "FLIP", "ms", "ms",
+              "ms", "ms");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -428,6 +450,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
         res.flip_hand_plain = bench::MeanFlip(plain_map, hands);
       }
     }
+    cv::Mat refl_window;
     for (int e = 0; e < kNumEffects; ++e) {
       render::SceneInputs off = in;
       off.effects.*(kEffects[e].flag) = false;
@@ -447,11 +470,56 @@ int RunBenchRender(const RenderBenchArgs& args) {
         if (cv::countNonZero(window) > 0)
           res.flip_shadow = bench::MeanFlip(flip_map, window);
       }
+      if (kEffects[e].flag == &render::Effects::reflection) {
+        cv::Mat diff, window;
+        cv::absdiff(realtime, img, diff);
+        cv::transform(diff, window, cv::Matx13f(1, 1, 1));  // any channel
+        window = (window > 3) & mask;
+        refl_window = window;
+        if (cv::countNonZero(window) > 0)
+          res.flip_reflection = bench::MeanFlip(flip_map, window);
+      }
+    }
+    cv::Mat cube_image, cube_map;
+    MapRow row{s.name,
+               {res.flip, 0},
+               {res.flip_open, 0},
+               {res.flip_reflection, -1},
+               {0, 0},
+               0};
+    if (both_maps) {
+      // The cube map on the same inputs; FLIP over the same masks and the
+      // fold's reflection window (where reflections matter at all).
+      render::RendererOptions cube_options = ro;
+      cube_options.reflection_map = render::ReflectionMap::kCubeMap;
+      auto cube =
+          render::Renderer::TryCreate(ctx.get(), k, cube_options, &error);
+      if (!cube) return Fail(kExitRuntime, error);
+      cube_image = RenderRealTime(cube.get(), in);
+      if (cube_image.empty() ||
+          !bench::ComputeFlip(fo, reference, cube_image, &cube_map, &error))
+        return Fail(kExitRuntime, "scene '" + s.name + "': cube map failed");
+      row.envmap_ms = cube->timings().envmap_ms;
+      row.flip[1] = bench::MeanFlip(cube_map, mask);
+      row.open[1] = cv::countNonZero(open_mask) > 0
+                        ? bench::MeanFlip(cube_map, open_mask)
+                        : 0.0;
+      if (!refl_window.empty() && cv::countNonZero(refl_window) > 0)
+        row.refl[1] = bench::MeanFlip(cube_map, refl_window);
+      std::vector<double> cube_ms;
+      for (int i = 0; i < args.timing_frames; ++i) {
+        in.water.change_counter += 1;
+        if (!cube->Render(in))
+          return Fail(kExitRuntime, "scene '" + s.name + "': render failed");
+        cube->Finish();
+        cube_ms.push_back(cube->timings().main_ms);
+      }
+      row.main_ms[1] = bench::Percentile(cube_ms, 50);
     }
     // Pass times: the surface changes every frame (its counter moves), so
     // the caustics and the main pass run each time; the pen (when there is
     // one) moves by 1.5 mm, so the shadow map is redrawn too.
-    std::vector<double> main_ms, caustics_ms, shadow_ms;
+    std::vector<double> main_ms, caustics_ms, shadow_ms, envmap_ms;
     for (int i = 0; i < args.timing_frames; ++i) {
       in.water.change_counter += 1;
       in.tank_from_pen[3][0] += i % 2 ? 0.0015 : -0.0015;
@@ -461,11 +529,17 @@ int RunBenchRender(const RenderBenchArgs& args) {
       main_ms.push_back(renderer->timings().main_ms);
       caustics_ms.push_back(renderer->timings().caustics_ms);
       shadow_ms.push_back(renderer->timings().shadow_ms);
+      // Rebuilt only when the frame changes enough: the time of one.
+      if (renderer->timings().envmap_rebuilt)
+        envmap_ms.push_back(renderer->timings().envmap_ms);
     }
     res.main_ms = bench::Percentile(main_ms, 50);
     res.caustics_ms = bench::Percentile(caustics_ms, 50);
     res.shadow_ms = bench::Percentile(shadow_ms, 50);
+    if (!envmap_ms.empty()) res.envmap_ms = bench::Percentile(envmap_ms, 50);
 
+    row.main_ms[0] = res.main_ms;
+    if (both_maps) map_rows.push_back(row);
     std::printf("%-8s %7d %6.4f %6.4f |", s.name.c_str(), res.water_pixels,
                 res.flip, res.flip_open);
     csv << s.name << ',' << res.water_pixels << ',' << res.flip << ','
@@ -483,15 +557,17 @@ int RunBenchRender(const RenderBenchArgs& args) {
       return std::string(b);
     };
     std::printf(
-        " | %6.4f | %s %s %s %s %s | %6.2f %6.2f %6.2f | %6.1f\n",
+        " | %6.4f | %s %s %s %s %s %s | %6.2f %6.2f %6.2f %6.2f | %6.1f\n",
         res.noise_floor, window(res.flip_pen).c_str(),
         window(res.flip_hand).c_str(), window(res.flip_pen_plain).c_str(),
         window(res.flip_hand_plain).c_str(), window(res.flip_shadow).c_str(),
-        res.main_ms, res.caustics_ms, res.shadow_ms, res.reference_s);
+        window(res.flip_reflection).c_str(), res.main_ms, res.caustics_ms,
+        res.shadow_ms, res.envmap_ms, res.reference_s);
     csv << ',' << res.noise_floor << ',' << res.flip_pen << ',' << res.flip_hand
         << ',' << res.flip_pen_plain << ',' << res.flip_hand_plain << ','
-        << res.flip_shadow << ',' << res.main_ms << ',' << res.caustics_ms
-        << ',' << res.shadow_ms << ',' << res.reference_s << '\n';
+        << res.flip_shadow << ',' << res.flip_reflection << ',' << res.main_ms
+        << ',' << res.caustics_ms << ',' << res.shadow_ms << ','
+        << res.envmap_ms << ',' << res.reference_s << '\n';
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
@@ -510,6 +586,25 @@ int RunBenchRender(const RenderBenchArgs& args) {
     const std::string png = args.out + "/" + s.name + ".png";
     if (!cv::imwrite(png, panel))
       return Fail(kExitRuntime, "cannot write '" + png + "'");
+    if (both_maps) {
+      // reference | fold | cube map | the cube map's FLIP
+      cv::Mat four, cube_heat = bench::FlipHeatmap(cube_map);
+      cube_heat.setTo(cv::Scalar(255, 255, 255), edges);
+      cv::hconcat(
+          std::vector<cv::Mat>{reference, realtime, cube_image, cube_heat},
+          four);
+      const char* names[] = {"reference", "fold", "cube map", "FLIP (cube)"};
+      for (int i = 0; i < 4; ++i) {
+        cv::putText(four, names[i], {i * size.width + 8, 20},
+                    cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(0, 0, 0), 3);
+        cv::putText(four, names[i], {i * size.width + 8, 20},
+                    cv::FONT_HERSHEY_SIMPLEX, 0.55, cv::Scalar(255, 255, 255),
+                    1);
+      }
+      const std::string png4 = args.out + "/" + s.name + "_reflection.png";
+      if (!cv::imwrite(png4, four))
+        return Fail(kExitRuntime, "cannot write '" + png4 + "'");
+    }
     if (!args.export_dir.empty() &&
         !WriteSceneFiles(args.export_dir + "/" + s.name, s, ro, video,
                          reference, realtime, flip_map, &error))
@@ -517,6 +612,28 @@ int RunBenchRender(const RenderBenchArgs& args) {
   }
   csv.close();
   if (!csv) return Fail(kExitRuntime, "cannot write '" + csv_path + "'");
+  if (both_maps) {
+    const std::string path = args.out + "/bench_reflection.csv";
+    std::ofstream rc(path);
+    rc << "scene,flip_fold,flip_cubemap,open_fold,open_cubemap,refl_fold,"
+          "refl_cubemap,main_ms_fold,main_ms_cubemap,envmap_rebuild_ms\n";
+    std::printf(
+        "\nreflection maps against the same reference (FLIP: water, open "
+        "water, where reflections matter; main pass ms; one rebuild ms)\n"
+        "%-8s %13s %13s %13s %13s %7s\n",
+        "scene", "FLIP f/c", "open f/c", "refl f/c", "main f/c", "rebuild");
+    for (const MapRow& r : map_rows) {
+      std::printf(
+          "%-8s %6.4f/%6.4f %6.4f/%6.4f %6.4f/%6.4f %6.2f/%6.2f %7.2f\n",
+          r.scene.c_str(), r.flip[0], r.flip[1], r.open[0], r.open[1],
+          r.refl[0], r.refl[1], r.main_ms[0], r.main_ms[1], r.envmap_ms);
+      rc << r.scene << ',' << r.flip[0] << ',' << r.flip[1] << ',' << r.open[0]
+         << ',' << r.open[1] << ',' << r.refl[0] << ',' << r.refl[1] << ','
+         << r.main_ms[0] << ',' << r.main_ms[1] << ',' << r.envmap_ms << '\n';
+    }
+    rc.close();
+    if (!rc) return Fail(kExitRuntime, "cannot write '" + path + "'");
+  }
   std::printf("wrote %s and one PNG per scene in %s/%s\n", csv_path.c_str(),
               args.out.c_str(),
               args.export_dir.empty()
@@ -539,7 +656,7 @@ CommandAction SetupBenchRender(CLI::App* sub) {
       ->capture_default_str();
   sub->add_option("--scenes", args->scenes,
                   "Scenes to run (flat ring demo_a demo_b demo_c tiles pen "
-                  "hand grazing lens; default all)");
+                  "hand grazing lens room; default all)");
   sub->add_option("--export", args->export_dir,
                   "Also write each scene's inputs and both renders here");
   sub->add_option("--water-look", args->water_look,
@@ -549,6 +666,14 @@ CommandAction SetupBenchRender(CLI::App* sub) {
   sub->add_option("--shadows", args->shadows,
                   "The real-time renderer's shadow filter: pcf, gauss or "
                   "hard (the reference's shadows are soft by construction)")
+      ->capture_default_str();
+  sub->add_option("--reflection", args->reflection,
+                  "The real-time renderer's reflection map: fold, cubemap or "
+                  "both (the fold's table, then the cube map against the same "
+                  "reference: bench_reflection.csv, <scene>_reflection.png) "
+                  "(the reference traces the reflected rays to the sky, the "
+                  "pen, the obstacles and, in the room scene, the room's "
+                  "walls)")
       ->capture_default_str();
   sub->add_option("--spp", args->samples_per_pixel,
                   "Reference samples per pixel")

@@ -158,6 +158,17 @@ int RunDemo(DemoArgs args) {
       truth.x(), truth.y(),
       std::acos(std::clamp(last_light.normalized().dot(lamp), -1.0, 1.0)) *
           180 / M_PI);
+  if (const auto& day = options.renderer.daylight) {
+    const render::LinearRgb& c = day->sky_rgb;
+    std::printf(
+        "daylight: %s, sky %.1f klx and sun %.1f klx on the board (sky "
+        "share %.2f), sky colour %.2f %.2f %.2f (linear RGB, unit "
+        "luminance)\n",
+        day->sun_up ? "the sun is up"
+                    : "the sun is below the horizon (direct light off)",
+        day->sky_klx, day->sun_klx, options.renderer.optics.ambient_share, c.r,
+        c.g, c.b);
+  }
   if (!active.AppendCsv(args.out + "/timing.csv", "active", true, &error) ||
       !idle.AppendCsv(args.out + "/timing.csv", "idle", false, &error))
     return Fail(kExitRuntime, error);

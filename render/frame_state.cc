@@ -43,6 +43,7 @@ void CommonUniforms::Resolve(const Program& p) {
   srgb_out_ = p.Uniform("u_srgb_out");
   knee_ = p.Uniform("u_knee");
   ambient_ = p.Uniform("u_ambient");
+  cube_from_tank_ = p.Uniform("u_cube_from_tank");
   glUseProgram(p.id());
   const struct {
     const char* name;
@@ -50,7 +51,8 @@ void CommonUniforms::Resolve(const Program& p) {
   } samplers[] = {
       {"u_height", kUnitHeight},         {"u_shadow", kUnitShadow},
       {"u_caustics", kUnitCaustics},     {"u_scene", kUnitScene},
-      {"u_reflection", kUnitReflection}, {"u_receiver", kUnitReceiver}};
+      {"u_reflection", kUnitReflection}, {"u_receiver", kUnitReceiver},
+      {"u_env", kUnitEnvCube},           {"u_sky", kUnitSky}};
   for (const auto& s : samplers) glUniform1i(p.Uniform(s.name), s.unit);
 }
 
@@ -78,11 +80,16 @@ void CommonUniforms::Set(const Program& p, const FrameState& f,
   glUniform1f(srgb_out_, f.srgb_output ? 1.f : 0.f);
   glUniform1f(knee_, f.optics->highlight_knee);
   glUniform1f(ambient_, f.optics->ambient_share);
+  SetUniform(cube_from_tank_, f.cube_from_tank);
 }
 
 void SetUniform(GLint location, const glm::dmat4& m) {
   const glm::mat4 f(m);
   glUniformMatrix4fv(location, 1, GL_FALSE, glm::value_ptr(f));
+}
+void SetUniform(GLint location, const glm::dmat3& m) {
+  const glm::mat3 f(m);
+  glUniformMatrix3fv(location, 1, GL_FALSE, glm::value_ptr(f));
 }
 void SetUniform(GLint location, const glm::vec3& v) {
   glUniform3f(location, v.x, v.y, v.z);

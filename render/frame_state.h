@@ -30,6 +30,8 @@ enum TextureUnit : int {
   kUnitOccluders = 10,
   kUnitPlate = 11,
   kUnitMirror = 12,
+  kUnitEnvCube = 13,  // samplerCube: the environment (pass_envmap.h)
+  kUnitSky = 14,      // samplerCube: the daylight sky (pass_envmap.h)
 };
 
 // The height texture's mapping (HeightTexturePass).
@@ -58,7 +60,8 @@ struct FrameState {
   HeightFieldInfo height;
   ShadowTransform shadow;
   const WaterOptics* optics = nullptr;
-  WaterShading shading;  // for this light and depth
+  WaterShading shading;            // for this light and depth
+  glm::dmat3 cube_from_tank{1.0};  // the environment cube's frame
   bool srgb_output = true;
 };
 
@@ -84,11 +87,13 @@ class CommonUniforms {
         intr_ = -1, image_size_ = -1, cam_in_tank_ = -1, tank_ = -1,
         hf_extent_ = -1, hf_texel_ = -1, light_ = -1, light_refracted_ = -1,
         shadow_from_tank_ = -1, shadow_on_ = -1, shadow_texel_ = -1,
-        shadow_bias_ = -1, srgb_out_ = -1, knee_ = -1, ambient_ = -1;
+        shadow_bias_ = -1, srgb_out_ = -1, knee_ = -1, ambient_ = -1,
+        cube_from_tank_ = -1;
 };
 
 // glUniform wrappers for glm types (location -1 is ignored, as by GL).
 void SetUniform(GLint location, const glm::dmat4& m);
+void SetUniform(GLint location, const glm::dmat3& m);
 void SetUniform(GLint location, const glm::vec3& v);
 void SetUniform(GLint location, const glm::dvec3& v);
 

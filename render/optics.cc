@@ -168,9 +168,11 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   const double d = std::max(depth_m, 0.0);
   for (int c = 0; c < 3; ++c) {
     const double sigma = o.absorption_per_m[c];
-    s.floor_sky[c] = static_cast<float>(a * SkyTransmittance(o.ior, sigma, d));
-    s.floor_sun[c] = static_cast<float>(
-        (1.0 - a) * DirectTransmittance(cos_l, o.ior, sigma, d));
+    s.floor_sky[c] = static_cast<float>(a * o.sky_tint[c] *
+                                        SkyTransmittance(o.ior, sigma, d));
+    s.floor_sun[c] =
+        static_cast<float>((1.0 - a) * o.sun_tint[c] *
+                           DirectTransmittance(cos_l, o.ior, sigma, d));
   }
   s.inv_n2 = static_cast<float>(1.0 / (double(o.ior) * o.ior));
   s.glass_transmittance =
@@ -180,6 +182,35 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   s.inv_alpha2 = static_cast<float>(1.0 / (alpha * alpha));
   s.glint_peak = static_cast<float>((1.0 - a) / (cos_l * alpha * alpha));
   return s;
+}
+
+namespace {
+
+// The board's light per band in units of its luminance: a sky + (1 - a) sun.
+glm::dvec3 BoardLight(const Daylight& d) {
+  const double a = d.ambient_share;
+  return {a * d.sky_rgb.r + (1 - a) * d.sun_rgb.r,
+          a * d.sky_rgb.g + (1 - a) * d.sun_rgb.g,
+          a * d.sky_rgb.b + (1 - a) * d.sun_rgb.b};
+}
+
+}  // namespace
+
+void SetDaylight(const Daylight& d, WaterOptics* o) {
+  const glm::dvec3 w = BoardLight(d);
+  o->ambient_share = static_cast<float>(d.ambient_share);
+  o->sky_tint =
+      glm::vec3(glm::dvec3(d.sky_rgb.r, d.sky_rgb.g, d.sky_rgb.b) / w);
+  o->sun_tint =
+      glm::vec3(glm::dvec3(d.sun_rgb.r, d.sun_rgb.g, d.sun_rgb.b) / w);
+}
+
+glm::vec3 DaylightSkyRadiance(const Daylight& d, const EnuDirection& view) {
+  const double mean_y = d.sky_mean_relative;
+  const LinearRgb l = SkyRgbRelativeToZenith(d.sky, view);
+  const glm::dvec3 w = BoardLight(d);
+  const double k = d.ambient_share / std::max(mean_y, 1e-12);
+  return glm::vec3(k * glm::dvec3(l.r, l.g, l.b) / w);
 }
 
 FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,

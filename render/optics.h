@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "geometry/camera_model.h"
+#include "render/sun.h"
 
 namespace ripple::render {
 
@@ -91,11 +92,29 @@ struct WaterOptics {
   float light_angular_radius_rad = 2.0f * 3.14159265f / 180.0f;
   // Highlight shoulder's knee (linear display value).
   float highlight_knee = 0.8f;
+  // The colour of the sky's and of the light's share of the board's light,
+  // per band, relative to the board's whole light: a * sky_tint + (1 - a) *
+  // sun_tint = 1 in every band, so the dry board keeps the video's colour
+  // while the floor's ambient term (in shadow, under the water) takes the
+  // sky's. (1, 1, 1) both: a grey room light. SetDaylight sets them.
+  glm::vec3 sky_tint{1.0f};
+  glm::vec3 sun_tint{1.0f};
 
   // The look's absorption and scatter colour, other fields at defaults.
   static WaterOptics ForLook(WaterLook look);
   bool IsValid(std::string* error) const;
 };
+
+// Outdoors: the daylight's ambient share and the sky's and the sun's colour
+// (render/sun.h, Daylight) into `optics` (ambient_share, sky_tint,
+// sun_tint). Below the horizon the ambient share is 1: no direct light.
+void SetDaylight(const Daylight& daylight, WaterOptics* optics);
+
+// The daylight sky's radiance towards `view` (ENU) in display units (see
+// above): a * L(view) / mean_cos(L) relative to the board's light per band,
+// so that the sky's cosine-weighted mean is a * sky_tint.
+glm::vec3 DaylightSkyRadiance(const Daylight& daylight,
+                              const EnuDirection& view);
 
 // Per-frame constants of the water's shading model (linear RGB where
 // vectors), for a tank of rest depth `depth_m` under a light towards
@@ -108,8 +127,8 @@ struct WaterOptics {
 // 1/n^2 on leaving the water; then Beer-Lambert along the view path and
 // Fresnel against the reflection.
 struct WaterShading {
-  glm::vec3 floor_sky{0.0f};  // a * SkyTransmittance per band
-  glm::vec3 floor_sun{0.0f};  // (1 - a) * DirectTransmittance per band
+  glm::vec3 floor_sky{0.0f};  // a * sky_tint * SkyTransmittance per band
+  glm::vec3 floor_sun{0.0f};  // (1 - a) * sun_tint * DirectTransmittance
   float inv_n2 = 1;           // 1 / n^2
   // A floor point seen through a glass wall from inside the water: what the
   // video shows beyond it, times the glass's two interfaces at normal

@@ -12,7 +12,7 @@ namespace ripple::render::internal {
 
 class PassTimer {
  public:
-  enum Slot { kShadow = 0, kMain = 1, kSlots = 2 };
+  enum Slot { kShadow = 0, kMain = 1, kEnvMap = 2, kSlots = 3 };
   void Create(RendererOptions::Timing timing);
   void Begin(Slot slot);
   // kCpuFinish: milliseconds since Begin; otherwise 0 (kGpuQueries: read the

@@ -72,6 +72,26 @@ void VideoBackgroundPass::Upload(const VideoFrame& f, const Intrinsics& k,
                     GL_UNSIGNED_BYTE, video_rgba_.data());
   }
   have_video_ = true;
+  thumbnail_.resize(3 * kThumbW * kThumbH);
+  for (int j = 0; j < kThumbH; ++j) {
+    for (int i = 0; i < kThumbW; ++i) {
+      int sum[3] = {0, 0, 0};
+      for (int b = 0; b < 4; ++b) {
+        const int y = ((4 * j + b) * 2 + 1) * f.height / (8 * kThumbH);
+        // From the whole frame (the upload above may be a window of it).
+        const std::uint8_t* row = f.bgr + static_cast<size_t>(y) * stride;
+        for (int a = 0; a < 4; ++a) {
+          const std::uint8_t* px =
+              row + 3 * (((4 * i + a) * 2 + 1) * f.width / (8 * kThumbW));
+          // RGB out of BGR.
+          for (int c = 0; c < 3; ++c) sum[c] += px[2 - c];
+        }
+      }
+      for (int c = 0; c < 3; ++c)
+        thumbnail_[3 * (j * kThumbW + i) + c] =
+            static_cast<std::uint8_t>((sum[c] + 8) / 16);
+    }
+  }
   // With lens distortion the map is made from the distorted frame: a few
   // pixels of shift in a blurred quarter-size map that only feeds the
   // reflection's fake environment.

@@ -47,6 +47,11 @@ class VideoBackgroundPass {
             const glm::ivec4& window);
 
   bool have_video() const { return have_video_; }
+  // A 32 x 24 RGB thumbnail of the last frame (each texel the mean of a
+  // 4 x 4 grid of samples over its cell), for change detection; empty
+  // before the first frame.
+  const std::vector<std::uint8_t>& thumbnail() const { return thumbnail_; }
+  static constexpr int kThumbW = 32, kThumbH = 24;
   GLuint reflection_texture() const { return reflection_tex_.id(); }
 
  private:
@@ -64,6 +69,7 @@ class VideoBackgroundPass {
   bool srgb_ = true;
   std::vector<std::uint32_t> video_rgba_;       // upload buffer
   std::vector<std::uint32_t> reflection_rgba_;  // upload buffer
+  std::vector<std::uint8_t> thumbnail_;
 };
 
 }  // namespace ripple::render::internal

@@ -8,10 +8,13 @@
 namespace ripple::render::internal {
 
 bool WallsPass::Create(const Options& options, std::string* error) {
-  if (!BuildProgram(&programs_[0], "walls", "walls.vert", "walls.frag", "",
+  std::string defines;
+  if (options.env_cube) defines += "#define ENV_CUBE 1\n";
+  if (options.sky) defines += "#define SKY 1\n";
+  if (!BuildProgram(&programs_[0], "walls", "walls.vert", "walls.frag", defines,
                     error) ||
       !BuildProgram(&programs_[1], "front walls", "walls.vert", "walls.frag",
-                    "#define FRONT_WALL 1\n", error)) {
+                    defines + "#define FRONT_WALL 1\n", error)) {
     return false;
   }
   for (int i = 0; i < 2; ++i) {

@@ -21,6 +21,10 @@ class WallsPass {
  public:
   struct Options {
     WaterOptics optics;
+    // The glass reflects the environment cube map (pass_envmap.h) rather
+    // than the uniform sky; the daylight sky over it.
+    bool env_cube = false;
+    bool sky = false;
   };
   bool Create(const Options& options, std::string* error);
   // Draws into the bound output, depth-tested against what is there.

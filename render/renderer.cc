@@ -11,6 +11,7 @@
 #include "render/gl.h"
 #include "render/meshes.h"
 #include "render/pass_caustics.h"
+#include "render/pass_envmap.h"
 #include "render/pass_height.h"
 #include "render/pass_mirror.h"
 #include "render/pass_obstacles.h"
@@ -58,6 +59,26 @@ bool ParseShadowFilter(const std::string& name, ShadowFilter* filter) {
   return false;
 }
 
+const char* ReflectionMapName(ReflectionMap map) {
+  switch (map) {
+    case ReflectionMap::kFold:
+      return "fold";
+    case ReflectionMap::kCubeMap:
+      return "cubemap";
+  }
+  return "?";
+}
+
+bool ParseReflectionMap(const std::string& name, ReflectionMap* map) {
+  for (ReflectionMap m : {ReflectionMap::kFold, ReflectionMap::kCubeMap}) {
+    if (name == ReflectionMapName(m)) {
+      *map = m;
+      return true;
+    }
+  }
+  return false;
+}
+
 bool RendererOptions::IsValid(std::string* error) const {
   auto fail = [&](const char* m) {
     if (error) *error = m;
@@ -75,6 +96,16 @@ bool RendererOptions::IsValid(std::string* error) const {
   if (!(reflection_fade_m > 0)) return fail("reflection_fade_m must be > 0");
   if (shadow_move_threshold_m < 0 || shadow_turn_threshold_rad < 0)
     return fail("shadow thresholds must be >= 0");
+  const EnvMapOptions& e = envmap;
+  if (e.face_size < 8 || e.face_size > 1024)
+    return fail("envmap.face_size must be in [8, 1024]");
+  if (!(e.box_scale >= 1 && e.box_scale <= 2))
+    return fail("envmap.box_scale must be in [1, 2]");
+  if (!(e.box_margin >= 0 && e.box_margin <= 0.2))
+    return fail("envmap.box_margin must be in [0, 0.2]");
+  if (!(e.rebuild_turn_rad >= 0 && e.rebuild_box_px >= 0 &&
+        e.rebuild_mean_levels >= 0))
+    return fail("envmap rebuild thresholds must be >= 0");
   if (!optics.IsValid(error)) return false;
   return true;
 }
@@ -98,6 +129,7 @@ struct Renderer::Impl {
   internal::PresentPass present;
   internal::RealObjectsPass real;
   internal::MirrorPass mirror;
+  internal::EnvMapPass envmap;
   internal::RealObjectsState real_state;
   PassTimer timer;
   // The last video frame given (the caller's buffer) and the window it was
@@ -143,16 +175,33 @@ bool Renderer::Impl::Init(std::string* error) {
       o.obstacle_albedo, srgb,
       internal::ShadowFilterDefines(o.shadow_filter,
                                     o.shadow_gauss_sigma_texels)};
-  const internal::WaterPass::Options water_options{o.surface_grid, o.optics,
-                                                   o.reflection_distance_m};
-  const internal::WallsPass::Options walls_options{o.optics};
+  const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
+  const bool sky = o.daylight.has_value();
+  const internal::WaterPass::Options water_options{
+      o.surface_grid, o.optics, o.reflection_distance_m, cube, sky};
+  const internal::WallsPass::Options walls_options{o.optics, cube, sky};
+  internal::EnvMapPass::Options envmap_options;
+  envmap_options.face_size = o.envmap.face_size;
+  envmap_options.box_scale = o.envmap.box_scale;
+  envmap_options.box_margin = o.envmap.box_margin;
+  envmap_options.rebuild_turn_rad = o.envmap.rebuild_turn_rad;
+  envmap_options.rebuild_box_px = o.envmap.rebuild_box_px;
+  envmap_options.rebuild_mean_levels = o.envmap.rebuild_mean_levels;
   if (!video.Create(srgb, error) || !shadow.Create(shadow_options, error) ||
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
       !walls.Create(walls_options, error) || !present.Create(error) ||
       !real.Create(srgb, error) ||
-      !mirror.Create({o.obstacle_albedo, o.reflection_fade_m}, error)) {
+      !mirror.Create({o.obstacle_albedo, o.reflection_fade_m}, error) ||
+      !envmap.Create(envmap_options, error)) {
     return false;
+  }
+  if (o.daylight) {
+    const Daylight daylight = *o.daylight;
+    const double north = o.daylight_north_deg;
+    envmap.SetSky([&](const glm::dvec3& d) {
+      return DaylightSkyRadiance(daylight, EnuFromBoard(d.x, d.y, d.z, north));
+    });
   }
   solids.Create();
   walls_mesh.Create();
@@ -220,6 +269,10 @@ void Renderer::Impl::BindFrameTextures() {
     glActiveTexture(GL_TEXTURE0 + b.unit);
     glBindTexture(GL_TEXTURE_2D, b.texture);
   }
+  glActiveTexture(GL_TEXTURE0 + internal::kUnitEnvCube);
+  glBindTexture(GL_TEXTURE_CUBE_MAP, envmap.texture());
+  glActiveTexture(GL_TEXTURE0 + internal::kUnitSky);
+  glBindTexture(GL_TEXTURE_CUBE_MAP, envmap.sky_texture());
 }
 
 void Renderer::Impl::StartTimings() {
@@ -300,6 +353,21 @@ bool Renderer::Render(const SceneInputs& scene) {
         m.caustics.Update(scene, &m.timings.caustics_ms);
   }
 
+  // The environment cube map, only when the frame changed enough. From the
+  // quarter-size map, which Upload made from this frame (without lens
+  // distortion at the output's size; otherwise it is the last frame's).
+  if (fx.reflection && m.video.have_video() &&
+      m.options.reflection_map == ReflectionMap::kCubeMap &&
+      m.envmap.NeedsRebuild(m.k, scene.cam_from_tank, scene.tank,
+                            m.video.thumbnail())) {
+    m.timer.Begin(PassTimer::kEnvMap);
+    m.envmap.Rebuild(m.video.reflection_texture(), m.k, scene.cam_from_tank,
+                     scene.tank, m.video.thumbnail(), m.target.fbo());
+    m.timings.envmap_ms = m.timer.End(PassTimer::kEnvMap);
+    m.timings.envmap_rebuilt = true;
+  }
+  f.cube_from_tank = m.envmap.cube_from_tank();
+
   // The output, every frame.
   m.timer.Begin(PassTimer::kMain);
   // The mirror first, into its own target: switching targets in the middle
@@ -319,6 +387,9 @@ bool Renderer::Render(const SceneInputs& scene) {
     m.timings.main_ms = m.timer.Result(PassTimer::kMain);
     if (m.timings.shadow_redrawn) {
       m.timings.shadow_ms = m.timer.Result(PassTimer::kShadow);
+    }
+    if (m.timings.envmap_rebuilt) {
+      m.timings.envmap_ms = m.timer.Result(PassTimer::kEnvMap);
     }
   }
   m.timings.total_ms = MsSince(t_start);

@@ -35,12 +35,14 @@
 #include <cstdint>
 #include <glm/glm.hpp>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "render/camera.h"
 #include "render/context.h"
 #include "render/optics.h"
 #include "render/scene.h"
+#include "render/sun.h"
 
 namespace ripple::render {
 
@@ -66,6 +68,40 @@ enum class ShadowFilter {
 const char* ShadowFilterName(ShadowFilter filter);
 // Parses a ShadowFilterName; false for anything else.
 bool ParseShadowFilter(const std::string& name, ShadowFilter* filter);
+
+// Where the water's and the glass's reflections find the surroundings.
+enum class ReflectionMap {
+  // The flat fold: the reflected ray's point reflection_distance_m away
+  // projected into a quarter-size blurred copy of the frame (mirrored wrap
+  // beyond its edges), after Ropinski et al.'s virtual reflections; the
+  // glass reflects the uniform sky (the ambient share).
+  kFold,
+  // The environment cube map folded from the frame (pass_envmap.h:
+  // Ropinski et al.'s cube map as Milsap & Bourland build it), looked up by
+  // the reflected ray, for the water and the glass; rebuilt only when the
+  // frame changed enough (EnvMapOptions).
+  kCubeMap,
+};
+
+// "fold", "cubemap".
+const char* ReflectionMapName(ReflectionMap map);
+// Parses a ReflectionMapName; false for anything else.
+bool ParseReflectionMap(const std::string& name, ReflectionMap* map);
+
+// The cube map's fold and its rebuild rule (pass_envmap.h).
+struct EnvMapOptions {
+  int face_size = 64;        // texels per face side, [8, 1024]
+  double box_scale = 1.15;   // the tank's projected box grown by, [1, 2]
+  double box_margin = 0.04;  // image share kept outside the box, [0, 0.2]
+  // Rebuilt when the camera turned by more than this since the last
+  // rebuild, radians ...
+  double rebuild_turn_rad = 1.0 * 3.14159265358979 / 180.0;
+  // ... or an edge of the box moved by more than this, pixels ...
+  double rebuild_box_px = 4.0;
+  // ... or the frame's 32 x 24 thumbnail changed by more than this mean
+  // absolute difference, 8-bit levels.
+  double rebuild_mean_levels = 3.0;
+};
 
 struct RendererOptions {
   // Quads per side of the water mesh. llvmpipe spends ~0.5 us per triangle
@@ -93,7 +129,9 @@ struct RendererOptions {
   // to linear light, shades, and encodes its output the same way, so the
   // pixels outside the water are the video's own.
   Transfer video_transfer = Transfer::kSrgb;
-  float reflection_distance_m = 0.3f;  // distance to the reflected scene
+  ReflectionMap reflection_map = ReflectionMap::kFold;
+  EnvMapOptions envmap;
+  float reflection_distance_m = 0.3f;  // kFold: distance to the reflected scene
   // The mirrored obstacles and pen fade with height above the water, with
   // this e-folding height (Nelson & Kolsch's falloff; pass_mirror.h).
   float reflection_fade_m = 0.1f;
@@ -112,6 +150,16 @@ struct RendererOptions {
   // the FBO) and a lens with distortion (the output is the undistorted
   // video) always take the whole frame.
   bool full_frame_output = false;
+  // Outdoors (--sun): the daylight sky (render/sun.h) is what reflected rays
+  // climbing above the surroundings the video shows see: the reflection
+  // takes the sky's radiance (DaylightSkyRadiance) in place of the video's
+  // surroundings by smoothstep(sin 20 deg, sin 60 deg, r.z) for a ray r
+  // (tank frame); the glass likewise in place of its uniform sky. The
+  // optics' ambient share and tints are the caller's (SetDaylight).
+  // `north_deg`: the compass bearing of the tank's +y, degrees clockwise
+  // from true north.
+  std::optional<Daylight> daylight;
+  double daylight_north_deg = 0;
 
   enum class Timing {
     kNone,        // only CPU-side timings (uploads, caustics)
@@ -129,6 +177,7 @@ struct PassTimings {
   double shadow_ms = 0;    // shadow pass (0 when skipped)
   double caustics_ms = 0;  // CPU caustics map + upload (0 when skipped)
   double main_ms = 0;      // main pass incl. undistortion
+  double envmap_ms = 0;    // cube map rebuild (0 when skipped)
   double total_ms = 0;     // CPU wall time of Render()
   // The output's window this frame (x, y, w, h, pixels, top row first):
   // what went through GL; the whole frame, or less (full_frame_output).
@@ -136,6 +185,7 @@ struct PassTimings {
   bool shadow_redrawn = false;
   bool caustics_recomputed = false;
   bool surface_uploaded = false;
+  bool envmap_rebuilt = false;
   // kGpuQueries: shadow_ms/main_ms are GPU times; kCpuFinish: wall times
   // with glFinish; kNone: 0.
   RendererOptions::Timing timing = RendererOptions::Timing::kNone;

@@ -401,4 +401,62 @@ LinearRgb MeanSkyRgbRelativeToZenith(const PreethamSky& sky) {
   return ClipNegative(LinearSrgbFromXyz(sx / n, sy / n, sz / n));
 }
 
+namespace {
+
+double Luminance(const LinearRgb& c) {
+  return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+}
+
+LinearRgb UnitLuminance(const LinearRgb& c) {
+  const double y = std::max(Luminance(c), 1e-12);
+  return {c.r / y, c.g / y, c.b / y};
+}
+
+}  // namespace
+
+EnuDirection EnuFromBoard(double x, double y, double z, double north_deg) {
+  // The board's +x and +y in ENU: +y at bearing n, +x at bearing n + 90.
+  const double n = north_deg * kRadPerDeg;
+  const double c = std::cos(n), s = std::sin(n);
+  return {x * c + y * s, -x * s + y * c, z};
+}
+
+bool ComputeDaylight(const SkyOptions& options,
+                     const EnuDirection& apparent_sun_enu, Daylight* daylight,
+                     std::string* error) {
+  if (!options.IsValid(error)) return false;
+  const EnuDirection sun = Normalized(apparent_sun_enu);
+  Daylight d;
+  d.sun_up = sun.up >= 0;
+  // Below the horizon: the sky with the sun on it.
+  const EnuDirection sky_sun =
+      d.sun_up ? sun : Normalized({sun.east, sun.north, 0.0});
+  if (!MakePreethamSky(options, sky_sun, &d.sky, error)) return false;
+  const LinearRgb mean = MeanSkyRgbRelativeToZenith(d.sky);
+  d.sky_mean_relative = Luminance(mean);
+  d.sky_klx = kPi * d.sky.zenith.Y * d.sky_mean_relative;
+  d.sky_rgb = UnitLuminance(mean);
+  const double t = options.turbidity;
+  const double cos_z = std::clamp(sun.up, 0.0, 1.0);
+  const double z_deg = std::acos(cos_z) * 180.0 / kPi;
+  // Kasten (1966); finite at the horizon (m = 38).
+  const double m =
+      1.0 / (cos_z + 0.15 * std::pow(std::max(93.885 - z_deg, 1e-3), -1.253));
+  const double beta = 0.04608 * t - 0.04586;
+  auto transmittance = [&](double lambda_um) {
+    const double rayleigh = 0.008735 * std::pow(lambda_um, -4.08);
+    const double aerosol = beta * std::pow(lambda_um, -1.3);
+    return std::exp(-(rayleigh + aerosol) * m);
+  };
+  const LinearRgb beam{transmittance(0.65), transmittance(0.55),
+                       transmittance(0.45)};
+  d.sun_rgb = UnitLuminance(beam);
+  constexpr double kLuminousSolarConstantKlx = 133.8;
+  d.sun_klx =
+      d.sun_up ? kLuminousSolarConstantKlx * Luminance(beam) * cos_z : 0;
+  d.ambient_share = d.sky_klx / std::max(d.sky_klx + d.sun_klx, 1e-12);
+  *daylight = d;
+  return true;
+}
+
 }  // namespace ripple::render

@@ -26,6 +26,11 @@ struct EnuDirection {
 // `elevation_deg` above the horizon.
 EnuDirection EnuFromAzimuthElevation(double azimuth_deg, double elevation_deg);
 
+// The ENU direction of the vector (x, y, z) of a frame with z up whose +y
+// axis points at compass bearing `north_deg` (clockwise from true north):
+// the tank frame of a board laid out that way.
+EnuDirection EnuFromBoard(double x, double y, double z, double north_deg);
+
 // ---- Time ----
 
 // Julian Day of an instant in UTC, on the proleptic Gregorian calendar:
@@ -177,6 +182,52 @@ LinearRgb SkyRgbRelativeToZenith(const PreethamSky& sky,
 // ambient term. Averaged in CIE XYZ and converted once (negatives clipped);
 // quadrature on a fixed 64 x 128 grid (deterministic).
 LinearRgb MeanSkyRgbRelativeToZenith(const PreethamSky& sky);
+
+// ---- Daylight on the board ----
+// The sun's beam through the atmosphere and the Preetham sky together, as the
+// renderer's light: how the board's light splits between the sky and the sun
+// and the colour of each, in the renderer's convention (render/optics.h: the
+// dry board's light is the unit of radiance, split into a sky share a and
+// the sun's 1 - a).
+//
+// The sun's beam: the luminous solar constant E0 = 133.8 klx (Darula,
+// Kittler & Gueymard, "Reference luminous solar constant and solar
+// luminance for illuminance calculations", Solar Energy 79, 2005) through
+// Preetham et al.'s (1999, section 3.1 and appendix) Rayleigh
+// exp(-0.008735 lambda^-4.08 m) and aerosol (Angstrom, alpha 1.3, beta =
+// 0.04608 T - 0.04586) transmittances, lambda in micrometres, at 450, 550
+// and 650 nm for the camera's blue, green and red bands, with Kasten's
+// (1966) air mass m = 1 / (cos z + 0.15 (93.885 - z_deg)^-1.253). The sun
+// outside the atmosphere is taken as white in the three bands; ozone, water
+// vapour and mixed gases (a few per cent, mostly in the red) are left out.
+// The sky: pi times the cosine-weighted mean of the Preetham luminance
+// (MeanSkyRgbRelativeToZenith times the zenith's kcd/m^2) on a horizontal
+// surface.
+struct Daylight {
+  // The sun's centre is above the horizon (apparent elevation >= 0); when it
+  // is not, the direct light is off: sun_klx = 0, ambient_share = 1, and the
+  // sky is the model's with the sun on the horizon (the twilight's colour,
+  // an approximation: Preetham's model describes daylight only).
+  bool sun_up = false;
+  double sun_klx = 0;  // the beam's illuminance on a horizontal surface
+  double sky_klx = 0;  // the sky's illuminance on a horizontal surface
+  // The sky's share of the board's light: sky_klx / (sky_klx + sun_klx).
+  double ambient_share = 1;
+  // Colours of unit luminance (0.2126 r + 0.7152 g + 0.0722 b = 1), linear
+  // sRGB: the sky's cosine-weighted mean and the sun's beam.
+  LinearRgb sky_rgb{1, 1, 1};
+  LinearRgb sun_rgb{1, 1, 1};
+  PreethamSky sky;  // for the sky's radiance per direction
+  // The luminance of MeanSkyRgbRelativeToZenith(sky): the sky's
+  // cosine-weighted mean over its zenith's.
+  double sky_mean_relative = 1;
+};
+
+// The daylight for the sun towards `apparent_sun_enu` (normalised inside;
+// below the horizon when up < 0). False (with `error`) for invalid options.
+bool ComputeDaylight(const SkyOptions& options,
+                     const EnuDirection& apparent_sun_enu, Daylight* daylight,
+                     std::string* error);
 
 }  // namespace ripple::render
 

@@ -45,6 +45,14 @@ class CameraTracer {
     Spectrum result(0.0), throughput(1.0);
     while (true) {
       const Event e = model_.Next(o, d, m);
+      if (m == Medium::kAir) {
+        double t_wall = 0;
+        Spectrum wall(0.0);
+        if (model_.RoomWall(o, d, &t_wall, &wall) &&
+            (e.kind == Event::Kind::kEscape || t_wall < e.t)) {
+          return result + throughput * wall;
+        }
+      }
       if (m == Medium::kWater && e.kind != Event::Kind::kEscape) {
         throughput *= glm::exp(-model_.sigma() * e.t);
       }

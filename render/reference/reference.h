@@ -118,6 +118,27 @@ struct ReferenceScene {
     cv::Vec3f radiance_bgr{0.45f, 0.55f, 0.75f};
   };
   std::vector<Occluder> occluders;
+  // The room around the tank: four vertical walls standing on the board at
+  // x = +-half_x, y = +-half_y (tank frame), `height` tall, open above (the
+  // sky). They are emitters of a fixed radiance (display units, like the
+  // video), in vertical stripes `stripe_m` wide alternating between the
+  // wall's colour and `stripe_dark` of it, seen by every ray in the air
+  // that reaches them before anything else: the camera beyond the board's
+  // edge, the water's and the glass's reflections, the sky rays of the
+  // diffuse points (so they light the board a little, in place of the sky
+  // they hide). They do not block the disc's light. The camera must be
+  // inside the room. Off: the board is unbounded under the uniform sky.
+  struct Room {
+    bool on = false;
+    double half_x = 0.4, half_y = 0.4, height = 0.5;  // metres
+    cv::Vec3f wall_bgr[4] = {{0.2f, 0.5f, 0.3f},      // -x wall
+                             {0.2f, 0.3f, 0.5f},      // +x wall
+                             {0.45f, 0.35f, 0.3f},    // -y wall
+                             {0.55f, 0.4f, 0.2f}};    // +y wall
+    double stripe_m = 0.05;
+    float stripe_dark = 0.4f;
+  };
+  Room room;
   double light_angular_radius_rad = 2.0 * M_PI / 180.0;  // the disc's radius
   double ambient_share = 0.3;  // a in [0, 1]: the sky's share (see above)
   // Beer-Lambert absorption of pure water per metre and band (B, G, R):

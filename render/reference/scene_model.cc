@@ -70,6 +70,7 @@ void SceneModel::Init(const ReferenceScene& rs, bool dry, double texel) {
   alpha_ = rs.light_angular_radius_rad;
   sigma_ = ToSpectrum(rs.absorption_per_m);
   table_ = ToSpectrum(rs.table_albedo);
+  room_ = rs.room;
   albedo_ = rs.floor_albedo;
   albedo_rect_ = rs.floor_rect_m;
   surface_.Init(sc.water, sc.tank.water_level, a_, b_);
@@ -477,6 +478,30 @@ Event SceneModel::Next(const glm::dvec3& o, const glm::dvec3& d,
       break;
   }
   return best;
+}
+
+bool SceneModel::RoomWall(const glm::dvec3& o, const glm::dvec3& d, double* t,
+                          Spectrum* radiance) const {
+  if (!room_.on) return false;
+  const double inf = std::numeric_limits<double>::infinity();
+  const double tx = d.x > 0   ? (room_.half_x - o.x) / d.x
+                    : d.x < 0 ? (-room_.half_x - o.x) / d.x
+                              : inf;
+  const double ty = d.y > 0   ? (room_.half_y - o.y) / d.y
+                    : d.y < 0 ? (-room_.half_y - o.y) / d.y
+                              : inf;
+  const double tw = std::min(tx, ty);
+  if (!(tw > 0) || tw == inf) return false;
+  const glm::dvec3 p = o + tw * d;
+  if (p.z < 0 || p.z > room_.height) return false;
+  const int wall = tx < ty ? (d.x < 0 ? 0 : 1) : (d.y < 0 ? 2 : 3);
+  const double along = tx < ty ? p.y : p.x;
+  const bool dark =
+      static_cast<long>(std::floor(along / room_.stripe_m)) % 2 != 0;
+  *t = tw;
+  *radiance = ToSpectrum(room_.wall_bgr[wall]) *
+              (dark ? double(room_.stripe_dark) : 1.0);
+  return true;
 }
 
 }  // namespace ripple::reference::internal

@@ -69,6 +69,11 @@ class SceneModel {
   // The first event along o + t d (t > kRayEpsilon) for a ray in medium m.
   Event Next(const glm::dvec3& o, const glm::dvec3& d, Medium m) const;
   Spectrum Albedo(const Event& e) const;
+  // The room's wall (ReferenceScene::Room) that the ray o + t d (in the air,
+  // o inside the room) meets, at *t, and its radiance; false without a room
+  // or when the ray leaves over the walls' top.
+  bool RoomWall(const glm::dvec3& o, const glm::dvec3& d, double* t,
+                Spectrum* radiance) const;
   double Ior(Medium m) const { return ior_[static_cast<int>(m)]; }
 
   bool wet() const { return wet_; }
@@ -112,6 +117,7 @@ class SceneModel {
   cv::Mat albedo_;
   cv::Rect2d albedo_rect_;
   Spectrum table_{0.3};
+  ReferenceScene::Room room_;
 };
 
 }  // namespace ripple::reference::internal

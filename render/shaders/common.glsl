@@ -27,6 +27,30 @@ uniform float u_srgb_out;        // 1: the output is sRGB-encoded, 0: linear
 uniform float u_knee;            // highlight shoulder's knee (linear)
 uniform float u_ambient;         // the sky's share of the board's light
 
+#ifdef ENV_CUBE
+uniform samplerCube u_env;       // environment cube map (pass_envmap.h)
+uniform mat3 u_cube_from_tank;   // the camera's rotation at its rebuild
+#endif
+#ifdef SKY
+uniform samplerCube u_sky;       // daylight sky, tank frame, display units
+#endif
+
+// The environment towards the tank-frame direction r: the cube map, or
+// `fallback` (the caller's fold or uniform sky); outdoors, rays climbing
+// above what the video shows of the surroundings see the sky, blended in
+// between 20 and 60 degrees of elevation (sin = 0.342, 0.866).
+vec3 Environment(vec3 r, vec3 fallback) {
+#ifdef ENV_CUBE
+  vec3 env = textureLod(u_env, u_cube_from_tank * r, 0.0).rgb;
+#else
+  vec3 env = fallback;
+#endif
+#ifdef SKY
+  env = mix(env, textureLod(u_sky, r, 0.0).rgb, smoothstep(0.342, 0.866, r.z));
+#endif
+  return env;
+}
+
 vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
 
 float SurfaceZ(vec2 xy) {

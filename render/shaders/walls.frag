@@ -65,6 +65,9 @@ void main() {
   vec3 nrm = normalize(v_n);
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
+  // What the glass reflects: the uniform sky, or the environment (cube map,
+  // daylight sky) by the mirrored ray.
+  vec3 sky_seen = Environment(reflect(v, nrm), vec3(u_ambient));
 #ifdef FRONT_WALL
   if (v_p.z < surface) {
     // Into the water through the glass (n_glass cancels for a thin slab).
@@ -90,7 +93,7 @@ void main() {
     vec3 transmit_w = exp(-u_sigma * len);
     vec3 lin = (seen * transmit_w + u_scatter * (1.0 - transmit_w)) *
                    (1.0 - r_glass) +
-               vec3(u_ambient * r_glass);
+               sky_seen * r_glass;
     float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
     float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
     float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));
@@ -100,8 +103,9 @@ void main() {
     return;
   }
 #endif
-  // Glass: two faces reflecting the sky (radiance u_ambient) by Fresnel.
-  color = color * (1.0 - r_glass) + vec3(u_ambient * r_glass);
+  // Glass: two faces reflecting the sky (radiance u_ambient) or the
+  // environment by Fresnel.
+  color = color * (1.0 - r_glass) + sky_seen * r_glass;
   transmit *= 1.0 - r_glass;
   if (u_srgb_out > 0.5) {
     transmit = pow(transmit, vec3(1.0 / 2.2));

@@ -3,7 +3,9 @@
 // through the surface (caustics, shadow), the floor<->surface
 // inter-reflection and radiance's 1/n^2 on leaving the water, Beer-Lambert
 // absorption along the view path, exact Fresnel against a reflection map
-// folded from the video (after Ropinski et al.'s virtual reflections), and
+// folded from the video (after Ropinski et al.'s virtual reflections: the
+// flat fold, or with ENV_CUBE their cube map, pass_envmap.h; with SKY the
+// daylight sky above), and
 // glints of the light's disc. All in linear light (render/optics.h gives the
 // model and its constants); the result is encoded once, at the end.
 //
@@ -81,11 +83,19 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
 
 #endif
 
+// The reflected environment at surface point p towards r: the fold (the
+// point r * u_env_distance away projected into the blurred frame) or, with
+// ENV_CUBE, the cube map by direction (common.glsl's Environment).
 vec3 EnvLookup(vec3 p, vec3 r) {
+#ifdef ENV_CUBE
+  return Environment(r, vec3(0.0));
+#else
   vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
   c.z = max(abs(c.z), 0.02);  // fold what lies behind the camera forwards
   vec2 px = u_intr.xy * c.xy / c.z + u_intr.zw;
-  return textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb;
+  return Environment(
+      r, textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb);
+#endif
 }
 
 void main() {

@@ -93,43 +93,61 @@ enum Mode : int {
   kFullChanging,   // all passes, water and pen change every frame
   kFullIdle,       // water at rest, pen still: shadow/caustics skipped
   kMainDistorted,  // kMainOnly through a lens with distortion
+  // kMainOnly with the video alternating between two frames (the second
+  // 24 levels brighter): with the cube map, it is rebuilt every frame.
+  kMainVideoChanging,
 };
 
 void BM_Frame(benchmark::State& state) {
   const Mode mode = static_cast<Mode>(state.range(0));
   const Backend backend = static_cast<Backend>(state.range(1));
-  auto f = Make(state, backend, mode == kMainDistorted);
+  RendererOptions options;
+  options.reflection_map = static_cast<ReflectionMap>(state.range(2));
+  auto f = Make(state, backend, mode == kMainDistorted, options);
   if (!f) return;
   SceneInputs& in = f->scene.inputs;
   in.effects.shadows = in.effects.caustics =
-      mode != kMainOnly && mode != kMainDistorted;
+      mode == kFullChanging || mode == kFullIdle;
+  std::vector<std::uint8_t> brighter = f->scene.video;
+  for (std::uint8_t& v : brighter)
+    v = static_cast<std::uint8_t>(std::min(255, v + 24));
+  const std::uint8_t* videos[2] = {f->scene.video.data(), brighter.data()};
   f->renderer->Render(in);
   f->renderer->Finish();
-  double shadow = 0, caustics = 0, frames = 0;
+  double shadow = 0, caustics = 0, frames = 0, rebuilds = 0;
   const double cpu0 = ProcessCpuMs();
   for (auto _ : state) {
     if (mode != kFullIdle) {
       in.water.change_counter++;
       in.tank_from_pen[3].x += (int(frames) % 2 ? -0.002 : 0.002);
     }
+    if (mode == kMainVideoChanging) in.video.bgr = videos[int(frames) % 2];
     f->renderer->Render(in);
     f->renderer->Finish();
     shadow += f->renderer->timings().shadow_redrawn;
     caustics += f->renderer->timings().caustics_ms;
+    rebuilds += f->renderer->timings().envmap_rebuilt;
     ++frames;
   }
   state.counters["process_cpu_ms"] = (ProcessCpuMs() - cpu0) / frames;
   state.counters["shadow_redraws_per_frame"] = shadow / frames;
   state.counters["caustics_cpu_ms"] = caustics / frames;
+  state.counters["envmap_rebuilds_per_frame"] = rebuilds / frames;
 }
+// reflection: 0 the fold, 1 the cube map (ReflectionMap).
 BENCHMARK(BM_Frame)
-    ->ArgNames({"mode", "backend"})
-    ->Args({kMainOnly, int(Backend::kEgl)})
-    ->Args({kFullChanging, int(Backend::kEgl)})
-    ->Args({kFullIdle, int(Backend::kEgl)})
-    ->Args({kMainDistorted, int(Backend::kEgl)})
-    ->Args({kMainOnly, int(Backend::kOsmesa)})
-    ->Args({kFullChanging, int(Backend::kOsmesa)})
+    ->ArgNames({"mode", "backend", "reflection"})
+    ->Args({kMainOnly, int(Backend::kEgl), 0})
+    ->Args({kMainOnly, int(Backend::kEgl), 1})
+    ->Args({kFullChanging, int(Backend::kEgl), 0})
+    ->Args({kFullChanging, int(Backend::kEgl), 1})
+    ->Args({kFullIdle, int(Backend::kEgl), 0})
+    ->Args({kFullIdle, int(Backend::kEgl), 1})
+    ->Args({kMainDistorted, int(Backend::kEgl), 0})
+    ->Args({kMainVideoChanging, int(Backend::kEgl), 0})
+    ->Args({kMainVideoChanging, int(Backend::kEgl), 1})
+    ->Args({kMainOnly, int(Backend::kOsmesa), 0})
+    ->Args({kFullChanging, int(Backend::kOsmesa), 0})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

@@ -1,0 +1,346 @@
+// The environment cube map (render/pass_envmap.h): the fold's geometry (the
+// square-to-quad homography, GL's cube face convention), golden faces of a
+// synthetic frame with one colour per piece of the fold, the projective fix
+// of the trapezoid artefact, and the reflected-ray lookup through the whole
+// renderer for known surface normals. GL parts on EGL/llvmpipe; they skip
+// without a context (fail under CI=true).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "render/frame_state.h"
+#include "render/gl.h"
+#include "render/gl_objects.h"
+#include "render/pass_envmap.h"
+#include "render/renderer.h"
+#include "tests/render/render_test_util.h"
+
+namespace ripple::render {
+namespace {
+
+using internal::CubeFaceOf;
+using internal::EnvMapBox;
+using internal::EnvMapFaceQuad;
+using internal::SquareToQuad;
+
+TEST(SquareToQuadTest, MapsTheCornersAndTheCentreToTheDiagonalsCrossing) {
+  // A trapezoid like a side face's piece: short edge at the box, long edge
+  // at the image border.
+  const std::array<glm::dvec2, 4> q = {
+      {{0.3, 0.3}, {0.7, 0.3}, {1.0, 0.0}, {0.0, 0.0}}};
+  const SquareToQuad m = SquareToQuad::FromCorners(q);
+  const double uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec2 p = m.Map(uv[i][0], uv[i][1]);
+    EXPECT_NEAR(p.x, q[i].x, 1e-12);
+    EXPECT_NEAR(p.y, q[i].y, 1e-12);
+  }
+  // A projective map keeps lines and incidence: the square's centre (where
+  // its diagonals cross) goes to where the quad's diagonals cross, here at
+  // y = 0.3 * 1 / (1 + 0.4) of the way (the similar triangles of the two
+  // parallel edges, 1.0 and 0.4 long).
+  const glm::dvec2 c = m.Map(0.5, 0.5);
+  EXPECT_NEAR(c.x, 0.5, 1e-12);
+  EXPECT_NEAR(c.y, 0.3 / 1.4, 1e-12);
+  // Two affine triangles would put it at the middle of the shared diagonal
+  // (0,0)-(1,1): 0.15 instead of 0.214, the trapezoid artefact's crease.
+  EXPECT_GT(std::abs(c.y - 0.5 * (q[0].y + q[2].y)), 0.05);
+}
+
+TEST(CubeFaceTest, FollowsGlsFaceConvention) {
+  glm::dvec2 st;
+  EXPECT_EQ(CubeFaceOf({1, 0, 0}, &st), internal::kPosX);
+  EXPECT_NEAR(st.x, 0.5, 1e-12);
+  EXPECT_NEAR(st.y, 0.5, 1e-12);
+  EXPECT_EQ(CubeFaceOf({0, -1, 0}, nullptr), internal::kNegY);
+  EXPECT_EQ(CubeFaceOf({0, 0, -2}, nullptr), internal::kNegZ);
+  // +x face: s runs against z, t against y (table 8.19).
+  CubeFaceOf({1, -0.5, 0.5}, &st);
+  EXPECT_NEAR(st.x, 0.25, 1e-12);
+  EXPECT_NEAR(st.y, 0.75, 1e-12);
+  // -y face: s with x, t against z.
+  EXPECT_EQ(CubeFaceOf({0.5, -1, 0.5}, &st), internal::kNegY);
+  EXPECT_NEAR(st.x, 0.75, 1e-12);
+  EXPECT_NEAR(st.y, 0.25, 1e-12);
+}
+
+// Whether normalised point p lies inside the convex quad q (either winding).
+bool InQuad(const std::array<glm::dvec2, 4>& q, const glm::dvec2& p) {
+  int pos = 0, neg = 0;
+  for (int i = 0; i < 4; ++i) {
+    const glm::dvec2 a = q[i], b = q[(i + 1) % 4];
+    const double c = (b.x - a.x) * (p.y - a.y) - (b.y - a.y) * (p.x - a.x);
+    pos += c > 0;
+    neg += c < 0;
+  }
+  return pos == 0 || neg == 0;
+}
+
+// One colour (linear RGB) per piece of the fold; the frame's centre box
+// black (kPosZ), the face behind the camera has no piece of its own.
+const glm::vec3 kPieceColor[5] = {
+    {1, 0, 1},  // kPosX, right: magenta
+    {1, 1, 0},  // kNegX, left: yellow
+    {0, 0, 1},  // kPosY, bottom: blue
+    {0, 1, 0},  // kNegY, top: green
+    {0, 0, 0},  // kPosZ, the box: black
+};
+
+// A w x h RGBA float frame (top row first) painted by piece for `box`.
+std::vector<glm::vec4> PaintPieces(int w, int h, const glm::dvec4& box) {
+  std::vector<glm::vec4> px(static_cast<size_t>(w) * h, glm::vec4(0.5f));
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      const glm::dvec2 p((x + 0.5) / w, (y + 0.5) / h);
+      for (int f = internal::kPosZ; f >= internal::kPosX; --f) {
+        if (InQuad(EnvMapFaceQuad(f, box), p)) {
+          px[static_cast<size_t>(y) * w + x] = glm::vec4(kPieceColor[f], 1.0f);
+          break;
+        }
+      }
+    }
+  }
+  return px;
+}
+
+struct FaceImages {
+  int n = 0;
+  std::vector<glm::vec4> face[internal::kNumFaces];  // row t, column s
+  glm::vec3 At(int f, double s, double t) const {
+    const int i = std::clamp(int(s * n), 0, n - 1);
+    const int j = std::clamp(int(t * n), 0, n - 1);
+    return glm::vec3(face[f][static_cast<size_t>(j) * n + i]);
+  }
+};
+
+FaceImages ReadFaces(const internal::EnvMapPass& pass) {
+  FaceImages out;
+  out.n = pass.options().face_size;
+  internal::Framebuffer fbo;
+  fbo.Create();
+  glBindFramebuffer(GL_FRAMEBUFFER, fbo.id());
+  for (int f = 0; f < internal::kNumFaces; ++f) {
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
+                           GL_TEXTURE_CUBE_MAP_POSITIVE_X + f, pass.texture(),
+                           0);
+    out.face[f].resize(static_cast<size_t>(out.n) * out.n);
+    glReadPixels(0, 0, out.n, out.n, GL_RGBA, GL_FLOAT, out.face[f].data());
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
+
+class EnvMapGlTest : public ::testing::Test {
+ protected:
+  static constexpr int kW = 640, kH = 480, kSrcW = 160, kSrcH = 120;
+  void SetUp() override {
+    k_ = testing::MakeIntrinsics(kW, kH);
+    cam_from_tank_ = testing::LookAt({0.0, -0.24, 0.22}, {0, 0, 0});
+  }
+  // Builds the cube map from `src` (kSrcW x kSrcH linear RGBA floats).
+  bool Build(const std::vector<glm::vec4>& src, internal::EnvMapPass* pass) {
+    std::string error;
+    if (!pass->Create({}, &error)) {
+      ADD_FAILURE() << error;
+      return false;
+    }
+    glActiveTexture(GL_TEXTURE0);
+    internal::AllocTexture(&source_, GL_RGBA16F, kSrcW, kSrcH, GL_RGBA,
+                           GL_FLOAT, GL_LINEAR, GL_CLAMP_TO_EDGE, src.data());
+    pass->Rebuild(source_.id(), k_, cam_from_tank_, tank_,
+                  std::vector<std::uint8_t>(3 * 32 * 24, 0), 0);
+    return glGetError() == GL_NO_ERROR;
+  }
+  Intrinsics k_;
+  glm::dmat4 cam_from_tank_{1.0};
+  TankGeometry tank_;
+  internal::Texture source_;
+};
+
+TEST_F(EnvMapGlTest, EachPieceOfTheFrameLandsOnItsFace) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, 64, 64);
+  const internal::EnvMapPass::Options defaults;
+  const glm::dvec4 box = EnvMapBox(k_, cam_from_tank_, tank_,
+                                   defaults.box_scale, defaults.box_margin);
+  // The box holds the tank and lies inside the frame's margins.
+  EXPECT_GE(box.x, defaults.box_margin - 1e-12);
+  EXPECT_LE(box.z, 1 - defaults.box_margin + 1e-12);
+  EXPECT_LT(box.x, box.z);
+  EXPECT_LT(box.y, box.w);
+  internal::EnvMapPass pass;
+  ASSERT_TRUE(Build(PaintPieces(kSrcW, kSrcH, box), &pass));
+  const FaceImages faces = ReadFaces(pass);
+  // Away from the faces' edges (where the pieces' borders blur over a
+  // source texel), every texel of a side face or of the box's face has its
+  // piece's colour; tolerance: bilinear filtering at the pieces' diagonal
+  // borders reaches 1 source texel (1/64 of the face at most) inward.
+  int checked = 0;
+  for (int f = internal::kPosX; f <= internal::kPosZ; ++f) {
+    for (double t = 0.2; t <= 0.8; t += 0.05) {
+      for (double s = 0.2; s <= 0.8; s += 0.05) {
+        const glm::vec3 c = faces.At(f, s, t);
+        const glm::vec3 e = kPieceColor[f];
+        ASSERT_LT(glm::length(c - e), 0.05f)
+            << "face " << f << " at (" << s << ", " << t << ")";
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 600);
+  // Behind the camera: the whole frame mirrored left to right, so its
+  // centre is the box's colour and its edges meet the side faces: its s = 0
+  // edge (towards +x) shows the frame's right border (magenta), s = 1 the
+  // left (yellow), t = 0 the bottom (blue), t = 1 the top (green).
+  EXPECT_LT(glm::length(faces.At(internal::kNegZ, 0.5, 0.5) - kPieceColor[4]),
+            0.05f);
+  EXPECT_LT(glm::length(faces.At(internal::kNegZ, 0.02, 0.5) - kPieceColor[0]),
+            0.05f);
+  EXPECT_LT(glm::length(faces.At(internal::kNegZ, 0.98, 0.5) - kPieceColor[1]),
+            0.05f);
+  EXPECT_LT(glm::length(faces.At(internal::kNegZ, 0.5, 0.02) - kPieceColor[2]),
+            0.05f);
+  EXPECT_LT(glm::length(faces.At(internal::kNegZ, 0.5, 0.98) - kPieceColor[3]),
+            0.05f);
+  // Neighbouring faces agree along their shared edge: +x's outer edge
+  // (s = 1) and -z's s = 0 edge are the frame's right border.
+  for (double t = 0.1; t < 0.95; t += 0.1) {
+    EXPECT_LT(glm::length(faces.At(internal::kPosX, 0.99, t) -
+                          faces.At(internal::kNegZ, 0.01, t)),
+              0.05f);
+  }
+}
+
+TEST_F(EnvMapGlTest, TrapezoidsMapProjectivelyWithoutACrease) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, 64, 64);
+  const internal::EnvMapPass::Options defaults;
+  const glm::dvec4 box = EnvMapBox(k_, cam_from_tank_, tank_,
+                                   defaults.box_scale, defaults.box_margin);
+  // A bright dot where the top piece's diagonals cross, on black: the
+  // projective map puts it at the face's centre; two affine triangles split
+  // along a diagonal would move it along that diagonal.
+  const auto quad = EnvMapFaceQuad(internal::kNegY, box);
+  const glm::dvec2 centre = SquareToQuad::FromCorners(quad).Map(0.5, 0.5);
+  std::vector<glm::vec4> src(static_cast<size_t>(kSrcW) * kSrcH,
+                             glm::vec4(0, 0, 0, 1));
+  for (int y = 0; y < kSrcH; ++y) {
+    for (int x = 0; x < kSrcW; ++x) {
+      const double dx = (x + 0.5) / kSrcW - centre.x;
+      const double dy = (y + 0.5) / kSrcH - centre.y;
+      if (std::hypot(dx * kSrcW, dy * kSrcH) < 1.6)
+        src[static_cast<size_t>(y) * kSrcW + x] = glm::vec4(1.0f);
+    }
+  }
+  internal::EnvMapPass pass;
+  ASSERT_TRUE(Build(src, &pass));
+  const FaceImages faces = ReadFaces(pass);
+  // The dot's centroid on the top face.
+  const int n = faces.n;
+  double sum = 0, su = 0, sv = 0;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      const double v = faces.face[internal::kNegY][j * n + i].g;
+      sum += v;
+      su += v * (i + 0.5) / n;
+      sv += v * (j + 0.5) / n;
+    }
+  }
+  ASSERT_GT(sum, 1.0);
+  EXPECT_NEAR(su / sum, 0.5, 1.0 / n);
+  EXPECT_NEAR(sv / sum, 0.5, 1.0 / n);
+  // The affine split's centre: the middle of the quad's (0,0)-(1,1)
+  // diagonal, mapped back into the face by the true homography, is far
+  // from the centre: the test tells the two apart.
+  const glm::dvec2 affine = 0.5 * (quad[0] + quad[2]);
+  EXPECT_GT(glm::length(affine - centre) * kSrcH, 3.0);
+}
+
+// The renderer with the cube map over a frame painted by piece (the tank's
+// box black, so the water shows only its reflection): the reflection of the
+// water's centre takes the colour of the face its reflected ray points at,
+// for flat water seen from the front (the frame's top) and for surfaces
+// tilted either way along x seen from above (the frame's right and left).
+TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
+  constexpr int kW = 320, kH = 240;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  RendererOptions options;
+  options.reflection_map = ReflectionMap::kCubeMap;
+  const Intrinsics k0 = testing::MakeIntrinsics(kW, kH);
+  std::string error;
+  auto renderer = Renderer::TryCreate(ctx.get(), k0, options, &error);
+  ASSERT_NE(renderer, nullptr) << error;
+  std::vector<std::uint8_t> out(static_cast<size_t>(kW) * kH * 3);
+  const struct {
+    testing::View view;
+    double slope;  // dh/dx at the centre
+    int face;      // where its reflected ray points
+  } cases[] = {{testing::View::kFront, 0.0, internal::kNegY},
+               {testing::View::kTop, 0.6, internal::kNegX},
+               {testing::View::kTop, -0.6, internal::kPosX}};
+  int rebuilds = 0;
+  std::uint64_t counter = 0;
+  for (const auto& c : cases) {
+    SCOPED_TRACE(c.slope);
+    testing::TestScene s = testing::MakeScene(kW, kH, c.view, false);
+    const EnvMapOptions& e = options.envmap;
+    SceneInputs& in = s.inputs;
+    const glm::dvec4 box =
+        EnvMapBox(s.k, in.cam_from_tank, in.tank, e.box_scale, e.box_margin);
+    const std::vector<glm::vec4> pieces = PaintPieces(kW, kH, box);
+    for (size_t i = 0; i < pieces.size(); ++i) {
+      for (int ch = 0; ch < 3; ++ch)  // BGR8
+        s.video[3 * i + ch] =
+            static_cast<std::uint8_t>(255 * pieces[i][2 - ch]);
+    }
+    in.effects.shadows = in.effects.caustics = in.effects.walls = false;
+    in.light_in_tank = {-0.3, -1.0, 0.4};  // no glint near the reflection
+    // h = slope * x * exp(-x^2 / (2 sigma^2)): the normal (-slope, 0, 1)
+    // at the centre, the surface within 2.5 mm of the rest level.
+    const int nx = 256, ny = 166;
+    const float d = in.tank.size_x / nx;
+    const double sigma = 0.006;
+    std::vector<float> heights(nx * ny);
+    for (int j = 0; j < ny; ++j) {
+      for (int i = 0; i < nx; ++i) {
+        const double x = (i + 0.5 - 0.5 * nx) * d;
+        heights[j * nx + i] = static_cast<float>(
+            c.slope * x * std::exp(-x * x / (2 * sigma * sigma)));
+      }
+    }
+    in.water = {heights.data(), nx, ny, d, ++counter};  // a new surface
+    ASSERT_TRUE(renderer->Render(in));
+    rebuilds += renderer->timings().envmap_rebuilt;
+    ASSERT_TRUE(renderer->ReadBgr(out.data()));
+    // The expected face from the geometry.
+    const glm::dvec3 centre(0.0, 0.0, in.tank.water_level);
+    const glm::dvec3 eye(glm::inverse(in.cam_from_tank)[3]);
+    const glm::dvec3 n = glm::normalize(glm::dvec3(-c.slope, 0.0, 1.0));
+    const glm::dvec3 r = glm::reflect(glm::normalize(centre - eye), n);
+    const int face = CubeFaceOf(glm::dmat3(in.cam_from_tank) * r, nullptr);
+    ASSERT_EQ(face, c.face);
+    // The pixel's colour is the face's piece's times Fresnel (a few per
+    // cent, over the black floor): compare its chromaticity.
+    const glm::dvec4 p = in.cam_from_tank * glm::dvec4(centre, 1.0);
+    const int u = static_cast<int>(std::lround(s.k.fx * p.x / p.z + s.k.cx));
+    const int v = static_cast<int>(std::lround(s.k.fy * p.y / p.z + s.k.cy));
+    glm::dvec3 px(0.0);
+    for (int dv = -1; dv <= 1; ++dv)
+      for (int du = -1; du <= 1; ++du)
+        for (int ch = 0; ch < 3; ++ch)
+          px[2 - ch] += out[3 * ((v + dv) * kW + u + du) + ch];
+    ASSERT_GT(std::max({px.r, px.g, px.b}), 9 * 20.0);
+    const glm::dvec3 want(kPieceColor[face]);
+    const glm::dvec3 got = px / std::max({px.r, px.g, px.b});
+    EXPECT_LT(glm::length(got - want), 0.35)
+        << "face " << face << ", pixel " << px.r / 9 << " " << px.g / 9 << " "
+        << px.b / 9;
+  }
+  // A new view is a new fold; the same view and frame again is not.
+  EXPECT_EQ(rebuilds, 2);  // front, then top (the tilt alone changes nothing)
+}
+
+}  // namespace
+}  // namespace ripple::render

@@ -194,9 +194,10 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
                 b.tank.cam_from_object->translation);
       ++tracked;
     }
-    if (a.pen.has_pose())
+    if (a.pen.has_pose()) {
       EXPECT_EQ(a.pen.cam_from_object->translation,
                 b.pen.cam_from_object->translation);
+    }
     EXPECT_EQ(cv::norm(first.composites[i], beside.composites[i], cv::NORM_INF),
               0.0);
     EXPECT_DOUBLE_EQ(first.times[i].lat, first.times[i].total);

@@ -109,9 +109,8 @@ class FolderSource : public FrameSource {
   size_t next_ = 0;
 };
 
-// A raw recording's DIR/timestamps.csv ("frame,time_s", one row per image
-// in name order; `ripple live --record-raw` writes it). Absent: empty and
-// true. Present but inconsistent: false with `error`.
+}  // namespace
+
 bool ReadFolderTimestamps(const std::string& dir, size_t frames,
                           std::vector<double>* times, std::string* error) {
   const std::string path = dir + "/timestamps.csv";
@@ -165,6 +164,8 @@ bool ReadFolderTimestamps(const std::string& dir, size_t frames,
   }
   return true;
 }
+
+namespace {
 
 class CaptureSource : public FrameSource {
  public:

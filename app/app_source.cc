@@ -13,8 +13,11 @@
 #include <thread>
 #include <vector>
 
+#include "app/app_matroska.h"
+#include "app/app_third_party_log.h"
 #include "app/command.h"
 #include "bench/stats.h"
+#include "tracking/camera.h"
 
 namespace ripple::app {
 namespace {
@@ -54,9 +57,33 @@ class FolderSource : public FrameSource {
 
   bool Read(cv::Mat* bgr, double* time_s) override {
     if (!error_.empty() || next_ >= files_.size()) return false;
-    const cv::Mat image = cv::imread(files_[next_], cv::IMREAD_UNCHANGED);
+    cv::Mat image;
+    std::string why;
+    {
+      // libpng and libtiff print their complaints themselves; the detail
+      // goes to --verbose, our line says what failed.
+      StderrCapture quiet;
+      try {
+        image = cv::imread(files_[next_], cv::IMREAD_UNCHANGED);
+      } catch (const cv::Exception& e) {
+        // OpenCV's size limits (set in main from tracking::kMaxImageSide)
+        // are checked on the header, before the pixels are allocated.
+        why = e.err.find("CV_IO_MAX_IMAGE") != std::string::npos
+                  ? ": its header states a size over " +
+                        std::to_string(tracking::kMaxImageSide) +
+                        " pixels per side"
+                  : ": " + e.err;
+      } catch (const std::exception& e) {
+        why = std::string(": ") + e.what();
+      }
+      const std::string& detail = quiet.Finish();
+      if (why.empty() && image.empty() && !detail.empty())
+        why = ": " + detail.substr(0, detail.find('\n'));
+    }
     if (image.empty()) {
-      error_ = "cannot read image '" + files_[next_] + "'";
+      error_ = "cannot read image '" + files_[next_] + "'" + why + " (read " +
+               std::to_string(frames_read_) + " of " +
+               std::to_string(files_.size()) + " frames)";
       return false;
     }
     *bgr = ToBgr(image);
@@ -82,14 +109,28 @@ class FolderSource : public FrameSource {
   size_t next_ = 0;
 };
 
-// A raw recording's DIR/timestamps.csv ("frame,time_s", one row per image
-// in name order; `ripple live --record-raw` writes it). Absent: empty and
-// true. Present but inconsistent: false with `error`.
+}  // namespace
+
 bool ReadFolderTimestamps(const std::string& dir, size_t frames,
                           std::vector<double>* times, std::string* error) {
   const std::string path = dir + "/timestamps.csv";
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return true;
+  // "frame,time_s" rows are a few dozen bytes each: bound the file before
+  // reading it.
+  const uintmax_t bytes = fs::file_size(path, ec);
+  if (ec || bytes > 4096 + 128 * static_cast<uintmax_t>(frames)) {
+    *error = "'" + path + "': " +
+             (ec ? std::string("cannot be read")
+                 : std::to_string(bytes) + " bytes is too large for " +
+                       std::to_string(frames) + " frames");
+    return false;
+  }
   std::ifstream in(path);
-  if (!in) return true;
+  if (!in) {
+    *error = "'" + path + "': cannot be read";
+    return false;
+  }
   std::string line;
   std::getline(in, line);
   if (line != "frame,time_s") {
@@ -104,12 +145,14 @@ bool ReadFolderTimestamps(const std::string& dir, size_t frames,
     double t = 0;
     char comma = 0;
     std::istringstream row(line);
-    if (!(row >> frame >> comma >> t) || comma != ',' || !std::isfinite(t) ||
+    // Nothing may follow the time: an extra column is another format.
+    if (!(row >> frame >> comma >> t) || comma != ',' ||
+        !(row >> std::ws).eof() || !std::isfinite(t) ||
         frame != static_cast<int>(times->size()) ||
         (!times->empty() && t < times->back())) {
-      *error = "'" + path + "' line " + std::to_string(n) +
-               ": expected frame " + std::to_string(times->size()) +
-               " and a non-decreasing time";
+      *error = "'" + path + "' line " + std::to_string(n) + ": expected \"" +
+               std::to_string(times->size()) +
+               ",<time_s>\" (frame, then a finite non-decreasing time)";
       return false;
     }
     times->push_back(t);
@@ -122,13 +165,18 @@ bool ReadFolderTimestamps(const std::string& dir, size_t frames,
   return true;
 }
 
+namespace {
+
 class CaptureSource : public FrameSource {
  public:
   CaptureSource(Kind kind, const std::string& spec,
-                std::unique_ptr<cv::VideoCapture> capture, int retries)
+                std::unique_ptr<cv::VideoCapture> capture, int retries,
+                std::string damage = "")
       : FrameSource(kind, spec),
         capture_(std::move(capture)),
-        retries_(retries) {
+        retries_(retries),
+        damage_(std::move(damage)),
+        ffmpeg_errors_at_open_(FfmpegErrorCount()) {
     if (kind == Kind::kVideo) {
       const double n = capture_->get(cv::CAP_PROP_FRAME_COUNT);
       count_ = n > 0 ? static_cast<int>(n) : -1;
@@ -151,11 +199,22 @@ class CaptureSource : public FrameSource {
                  std::to_string(retries_ + 1) + " reads)";
       } else if (kind_ == Kind::kCamera) {
         error_ = "camera '" + spec_ + "' stopped delivering frames";
+      } else if (!damage_.empty()) {
+        error_ = "video '" + spec_ + "' is " + damage_ + ": read " +
+                 std::to_string(frames_read_) + " of " +
+                 (count_ > 0 ? std::to_string(count_) : std::string("?")) +
+                 " frames";
       } else if (count_ > 0 && frames_read_ < count_ - 1) {
         // Containers' counts can be off by one; more missing is a cut.
         error_ = "video '" + spec_ + "' is truncated: read " +
                  std::to_string(frames_read_) + " of " +
                  std::to_string(count_) + " frames";
+      } else if (FfmpegErrorCount() > ffmpeg_errors_at_open_) {
+        error_ = "video '" + spec_ + "' has frames that failed to decode (" +
+                 LastFfmpegError() + "): read " + std::to_string(frames_read_) +
+                 " of " +
+                 (count_ > 0 ? std::to_string(count_) : std::string("?")) +
+                 " frames";
       }
       return false;
     }
@@ -182,6 +241,8 @@ class CaptureSource : public FrameSource {
  private:
   std::unique_ptr<cv::VideoCapture> capture_;
   int retries_ = 0;
+  std::string damage_;  // what CheckMatroska found, or empty
+  int ffmpeg_errors_at_open_ = 0;
   int count_ = -1;
   double fps_ = 0;
   bool ended_ = false;
@@ -246,8 +307,18 @@ std::unique_ptr<FrameSource> FrameSource::Open(
       *error = "cannot open video '" + spec + "' (not a video OpenCV can read)";
       return nullptr;
     }
-    return std::make_unique<CaptureSource>(Kind::kVideo, spec,
-                                           std::move(capture), 0);
+    // The stream's size from the container header, before any frame is
+    // decoded (and allocated).
+    const double w = capture->get(cv::CAP_PROP_FRAME_WIDTH);
+    const double h = capture->get(cv::CAP_PROP_FRAME_HEIGHT);
+    if (!(w <= tracking::kMaxImageSide && h <= tracking::kMaxImageSide)) {
+      *error = "video '" + spec + "' is " + std::to_string(w) + "x" +
+               std::to_string(h) + " pixels, over " +
+               std::to_string(tracking::kMaxImageSide) + " per side";
+      return nullptr;
+    }
+    return std::make_unique<CaptureSource>(
+        Kind::kVideo, spec, std::move(capture), 0, CheckMatroska(spec));
   }
   auto capture = std::make_unique<cv::VideoCapture>();
   try {

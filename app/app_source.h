@@ -15,6 +15,7 @@
 #include <memory>
 #include <opencv2/core.hpp>
 #include <string>
+#include <vector>
 
 namespace ripple::app {
 
@@ -91,6 +92,15 @@ class FrameSource {
 // without frames, kExitRuntime for a read failure.
 bool ReadFirstFrame(FrameSource* source, cv::Mat* bgr, double* time_s,
                     int* exit_code, std::string* error);
+
+// A raw recording's DIR/timestamps.csv ("frame,time_s", one row per image
+// in name order; `ripple live --record-raw` writes it), for `frames` images.
+// Absent: empty and true. Present but inconsistent (a row out of order, an
+// extra column, a time that is not finite or decreases, a row count other
+// than `frames`, a file far larger than those rows): false with one line in
+// `error` naming the file and the line.
+bool ReadFolderTimestamps(const std::string& dir, size_t frames,
+                          std::vector<double>* times, std::string* error);
 
 }  // namespace ripple::app
 

@@ -53,6 +53,12 @@ find_package(PkgConfig REQUIRED)
 pkg_check_modules(CAIRO IMPORTED_TARGET cairo)
 # FFTW (single precision) for the water's cosine transforms (sim/).
 pkg_check_modules(FFTW3F REQUIRED IMPORTED_TARGET fftw3f)
+# libyaml's event parser reads the rig and camera files (tracking/yaml_tree.h;
+# README, "Untrusted files").
+pkg_check_modules(YAML REQUIRED IMPORTED_TARGET yaml-0.1)
+# libavutil: FFmpeg's log lines are routed through our own callback
+# (app/app_third_party_log.h).
+pkg_check_modules(AVUTIL REQUIRED IMPORTED_TARGET libavutil)
 
 if(RIPPLE_BUILD_TESTS)
   find_package(GTest REQUIRED)

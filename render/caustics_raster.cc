@@ -187,12 +187,21 @@ RIPPLE_INLINE void EdgesRowsImpl(const Ctx& c, AccumBuffer* buf, int j_begin,
   }
 }
 
+// Lane shuffles: GCC's __builtin_shuffle takes an index vector, clang's
+// __builtin_shufflevector the indices themselves (clang builds the
+// sanitizer and fuzzing configuration).
+#if defined(__clang__)
+#define RIPPLE_SHUFFLE2(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#else
+#define RIPPLE_SHUFFLE2(a, b, ...) __builtin_shuffle(a, b, I8{__VA_ARGS__})
+#endif
+
 // Inclusive prefix sum of the eight lanes.
 RIPPLE_INLINE F8 Scan8(F8 x) {
   const F8 z = {};
-  x += __builtin_shuffle(z, x, I8{0, 8, 9, 10, 11, 12, 13, 14});
-  x += __builtin_shuffle(z, x, I8{0, 1, 8, 9, 10, 11, 12, 13});
-  x += __builtin_shuffle(z, x, I8{0, 1, 2, 3, 8, 9, 10, 11});
+  x += RIPPLE_SHUFFLE2(z, x, 0, 8, 9, 10, 11, 12, 13, 14);
+  x += RIPPLE_SHUFFLE2(z, x, 0, 1, 8, 9, 10, 11, 12, 13);
+  x += RIPPLE_SHUFFLE2(z, x, 0, 1, 2, 3, 8, 9, 10, 11);
   return x;
 }
 
@@ -223,7 +232,7 @@ RIPPLE_INLINE void ResolveImpl(AccumBuffer* buf, int y_first, int y_last,
       Store(col_c + x, sc);
       Store(col_q + x, sq);
       const F8 s = Scan8(Load(r + x) + sq) + carry;
-      carry = __builtin_shuffle(s, Bci(kLanes - 1));
+      carry = RIPPLE_SHUFFLE2(s, s, 7, 7, 7, 7, 7, 7, 7, 7);  // last lane
       Store(row + x, s + sc);
     }
   }

@@ -2,6 +2,7 @@
 
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -34,38 +35,69 @@ bool LoadVoxelVolume(const std::string& path, double voxel_size_m,
     if (error) *error = path + ": " + m;
     return false;
   };
-  std::ifstream in(path);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    return fail("cannot open voxel file (not a regular file)");
+  const uintmax_t file_bytes = std::filesystem::file_size(path, ec);
+  if (ec) return fail("cannot open voxel file");
+  std::ifstream in(path, std::ios::binary);
   if (!in) return fail("cannot open voxel file");
-  // Strip comments, keep the rest as one stream of tokens.
-  std::string text, line;
-  while (std::getline(in, line)) {
-    const size_t hash = line.find('#');
-    if (hash != std::string::npos) line.resize(hash);
-    text += line;
-    text += '\n';
-  }
-  std::istringstream s(text);
+  // The file is streamed: the header is checked before the body is read,
+  // and the body is never held as text.
+  int ch = 0;
+  auto next = [&]() {  // the next character outside comments, or EOF
+    ch = in.get();
+    if (ch == '#')
+      while (ch != EOF && ch != '\n') ch = in.get();
+    return ch;
+  };
+  auto token = [&](std::string* out) {  // whitespace-separated, <= 32 chars
+    out->clear();
+    while (next() != EOF && std::isspace(ch)) {
+    }
+    while (ch != EOF && !std::isspace(ch) && out->size() < 32) {
+      out->push_back(static_cast<char>(ch));
+      next();
+    }
+    return !out->empty();
+  };
+  auto integer = [&](int* out) {
+    std::string t;
+    if (!token(&t) || t.size() > 9 ||
+        t.find_first_not_of("0123456789") != std::string::npos)
+      return false;
+    *out = std::stoi(t);
+    return true;
+  };
   std::string magic;
   int version = 0;
   VoxelVolume v;
-  if (!(s >> magic >> version) || magic != "ripple-voxels")
+  if (!token(&magic) || magic != "ripple-voxels" || !integer(&version))
     return fail("not a voxel file (expected 'ripple-voxels 1')");
   if (version != 1)
     return fail("unsupported voxel file version " + std::to_string(version));
-  if (!(s >> v.nx >> v.ny >> v.nz)) return fail("missing dimensions nx ny nz");
+  if (!integer(&v.nx) || !integer(&v.ny) || !integer(&v.nz))
+    return fail("missing dimensions nx ny nz");
   v.voxel_size_m = voxel_size_m;
   if (v.nx <= 0 || v.ny <= 0 || v.nz <= 0 || v.nx > 4096 || v.ny > 4096 ||
       v.nz > 4096 || static_cast<double>(v.nx) * v.ny * v.nz > (1 << 28))
     return fail("voxel dimensions out of range");
   const size_t n = static_cast<size_t>(v.nx) * v.ny * v.nz;
+  // One character per voxel, a newline per row and comments: a file much
+  // larger than that is not this volume (and would take long to scan).
+  if (file_bytes > 4 * static_cast<uintmax_t>(n) + (1u << 20))
+    return fail(std::to_string(file_bytes) + " bytes, far more than " +
+                std::to_string(n) + " voxels need");
+  if (file_bytes < n)
+    return fail("expected " + std::to_string(n) + " voxels in a file of " +
+                std::to_string(file_bytes) + " bytes");
   v.occupied.reserve(n);
-  char ch;
-  while (s.get(ch)) {
+  while (next() != EOF) {
     if (ch == '0' || ch == '1') {
       if (v.occupied.size() == n) return fail("more voxels than nx*ny*nz");
       v.occupied.push_back(ch == '1');
-    } else if (!std::isspace(static_cast<unsigned char>(ch))) {
-      return fail(std::string("unexpected character '") + ch + "'");
+    } else if (!std::isspace(ch)) {
+      return fail("unexpected character code " + std::to_string(ch));
     }
   }
   if (v.occupied.size() != n)

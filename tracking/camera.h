@@ -18,6 +18,9 @@ using geometry::MakeIdealCamera;
 
 // Largest image side a camera file may state, pixels.
 inline constexpr int kMaxImageSide = 16384;
+// Smallest image side a camera file may state, pixels: the tag detector's
+// minimum (smaller images hold no tag).
+inline constexpr int kMinImageSide = 8;
 
 // Reads an OpenCV calibration YAML. Returns nullopt and fills `error` with a
 // message naming the file and the field on any problem (sizes above

@@ -117,7 +117,8 @@ std::optional<std::vector<PoseRow>> ReadPoseCsv(const std::string& path,
     if (c.size() != 17) return fail(n, "expected 17 columns");
     PoseRow r;
     double v;
-    if (!ParseDouble(c[0], &v) || v != std::floor(v) || v < 0)
+    // In int range before the conversion (1e300 would overflow it).
+    if (!ParseDouble(c[0], &v) || v != std::floor(v) || v < 0 || v > 1e9)
       return fail(n, "column 'frame' is not a frame index");
     r.frame = static_cast<int>(v);
     if (!ParseDouble(c[1], &r.time_s)) return fail(n, "column 'time_s'");
@@ -146,7 +147,7 @@ std::optional<std::vector<PoseRow>> ReadPoseCsv(const std::string& path,
       std::istringstream fs(c[14]);
       std::string id;
       while (std::getline(fs, id, ';')) {
-        if (!ParseDouble(id, &v) || v != std::floor(v))
+        if (!ParseDouble(id, &v) || v != std::floor(v) || std::abs(v) > 1e9)
           return fail(n, "column 'faces'");
         r.faces.push_back(static_cast<int>(v));
       }

@@ -1,5 +1,6 @@
 #include "tracking/rig.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <memory>
@@ -9,6 +10,7 @@
 #include <sstream>
 
 #include "tracking/tag_family.h"
+#include "tracking/yaml_tree.h"
 
 namespace ripple::tracking {
 namespace {
@@ -19,25 +21,24 @@ struct FieldError {
   std::string what;
 };
 
-double ReadNumber(const cv::FileNode& parent, const std::string& key,
+double ReadNumber(const YamlNode& parent, const std::string& key,
                   const std::string& path) {
-  const cv::FileNode n = parent[key];
+  const YamlNode& n = parent[key];
   if (n.empty()) throw FieldError{path + "." + key, "missing"};
-  if (!(n.isReal() || n.isInt()))
-    throw FieldError{path + "." + key, "not a number"};
-  const double v = static_cast<double>(n);
+  if (!n.IsNumber()) throw FieldError{path + "." + key, "not a number"};
+  const double v = n.Number();
   if (!std::isfinite(v)) throw FieldError{path + "." + key, "not finite"};
   return v;
 }
 
-double ReadPositive(const cv::FileNode& parent, const std::string& key,
+double ReadPositive(const YamlNode& parent, const std::string& key,
                     const std::string& path) {
   const double v = ReadNumber(parent, key, path);
   if (!(v > 0)) throw FieldError{path + "." + key, "must be positive"};
   return v;
 }
 
-int ReadInt(const cv::FileNode& parent, const std::string& key,
+int ReadInt(const YamlNode& parent, const std::string& key,
             const std::string& path) {
   const double v = ReadNumber(parent, key, path);
   if (v != std::floor(v) || std::abs(v) > 1e9)
@@ -45,38 +46,37 @@ int ReadInt(const cv::FileNode& parent, const std::string& key,
   return static_cast<int>(v);
 }
 
-std::string ReadString(const cv::FileNode& parent, const std::string& key,
+std::string ReadString(const YamlNode& parent, const std::string& key,
                        const std::string& path) {
-  const cv::FileNode n = parent[key];
+  const YamlNode& n = parent[key];
   if (n.empty()) throw FieldError{path + "." + key, "missing"};
-  if (n.isString()) return static_cast<std::string>(n);
+  if (n.IsString()) return n.Text();
   throw FieldError{path + "." + key, "not a string"};
 }
 
-std::vector<double> ReadVector(const cv::FileNode& parent,
-                               const std::string& key, size_t size,
-                               const std::string& path) {
-  const cv::FileNode n = parent[key];
+std::vector<double> ReadVector(const YamlNode& parent, const std::string& key,
+                               size_t size, const std::string& path) {
+  const YamlNode& n = parent[key];
   if (n.empty()) throw FieldError{path + "." + key, "missing"};
-  if (!n.isSeq() || n.size() != size)
+  if (!n.IsSequence() || n.size() != size)
     throw FieldError{path + "." + key,
                      "must be a list of " + std::to_string(size) + " numbers"};
   std::vector<double> out;
-  for (const cv::FileNode& e : n) {
-    if (!(e.isReal() || e.isInt()) || !std::isfinite(static_cast<double>(e)))
+  for (const YamlNode& e : n.children()) {
+    if (!e.IsNumber() || !std::isfinite(e.Number()))
       throw FieldError{path + "." + key, "must hold finite numbers"};
-    out.push_back(static_cast<double>(e));
+    out.push_back(e.Number());
   }
   return out;
 }
 
-const cv::FileNode& RequireMap(const cv::FileNode& n, const std::string& path) {
+const YamlNode& RequireMap(const YamlNode& n, const std::string& path) {
   if (n.empty()) throw FieldError{path, "missing"};
-  if (!n.isMap()) throw FieldError{path, "must be a mapping"};
+  if (!n.IsMapping()) throw FieldError{path, "must be a mapping"};
   return n;
 }
 
-Pose ReadPose(const cv::FileNode& node, const std::string& path) {
+Pose ReadPose(const YamlNode& node, const std::string& path) {
   const std::vector<double> p = ReadVector(node, "position", 3, path);
   const std::vector<double> q = ReadVector(node, "quaternion", 4, path);
   const double norm =
@@ -89,17 +89,17 @@ Pose ReadPose(const cv::FileNode& node, const std::string& path) {
   return Pose(rot.normalized(), Eigen::Vector3d(p[0], p[1], p[2]));
 }
 
-std::vector<TagPlacement> ReadTags(const cv::FileNode& parent,
+std::vector<TagPlacement> ReadTags(const YamlNode& parent,
                                    const std::string& key,
                                    const std::string& path) {
-  const cv::FileNode n = parent[key];
+  const YamlNode& n = parent[key];
   const std::string here = path + "." + key;
   if (n.empty()) throw FieldError{here, "missing"};
-  if (!n.isSeq() || n.size() == 0)
+  if (!n.IsSequence() || n.size() == 0)
     throw FieldError{here, "must be a non-empty list of tags"};
   std::vector<TagPlacement> tags;
   int i = 0;
-  for (const cv::FileNode& t : n) {
+  for (const YamlNode& t : n.children()) {
     const std::string tp = here + "[" + std::to_string(i++) + "]";
     RequireMap(t, tp);
     TagPlacement tag;
@@ -112,7 +112,7 @@ std::vector<TagPlacement> ReadTags(const cv::FileNode& parent,
   return tags;
 }
 
-ObstacleSpec ReadObstacle(const cv::FileNode& o, const std::string& path,
+ObstacleSpec ReadObstacle(const YamlNode& o, const std::string& path,
                           const std::string& rig_dir) {
   RequireMap(o, path);
   ObstacleSpec spec;
@@ -227,8 +227,22 @@ bool Rig::IsValid(std::string* error) const {
   if (tank_tags.empty()) return fail("tank.tags: no tags");
   if (!(tank.size_x_m > 0 && tank.size_y_m > 0))
     return fail("tank.inner_size: must be positive");
+  // A tabletop tank. The simulation grid, the caustics map and the shadow
+  // maps divide these lengths into a fixed number of cells and the
+  // rasterisers turn metres into int pixel indices: kilometre or nanometre
+  // tanks overflow them.
+  auto out_of = [&](const char* field, double v, double lo, double hi) {
+    return fail(std::string(field) + ": " + std::to_string(v) +
+                " m is outside [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "] m");
+  };
+  for (double s : {tank.size_x_m, tank.size_y_m})
+    if (!(s >= kMinTankSideM && s <= kMaxTankSideM))
+      return out_of("tank.inner_size", s, kMinTankSideM, kMaxTankSideM);
   if (!(tank.wall_height_m > 0))
     return fail("tank.wall_height: must be positive");
+  if (!(tank.wall_height_m <= kMaxTankSideM))
+    return out_of("tank.wall_height", tank.wall_height_m, 0, kMaxTankSideM);
   if (!(tank.water_level_m > 0 && tank.water_level_m <= tank.wall_height_m))
     return fail("tank.water_level: must be in (0, wall_height]");
   // Ids the family can draw and decode: a larger one is no tag at all.
@@ -242,6 +256,11 @@ bool Rig::IsValid(std::string* error) const {
   std::set<int> ids;
   for (const TagPlacement& t : tank_tags) {
     if (!(t.edge_m > 0)) return fail("tank.tags: edge must be positive");
+    if (!(t.edge_m <= kMaxTankSideM))
+      return out_of("tank.tags: edge", t.edge_m, 0, kMaxTankSideM);
+    if (!(t.object_from_tag.translation.norm() <= kMaxRigReachM))
+      return fail("tank.tags: tag " + std::to_string(t.id) + " lies over " +
+                  std::to_string(kMaxRigReachM) + " m from the tank centre");
     if (t.id >= num_codes) return beyond("tank.tags", t.id);
     if (!ids.insert(t.id).second)
       return fail("tank.tags: duplicate tag id " + std::to_string(t.id));
@@ -249,6 +268,13 @@ bool Rig::IsValid(std::string* error) const {
   if (pen) {
     if (pen->faces.empty()) return fail("pen.faces: no faces");
     if (!(pen->cube_edge_m > 0)) return fail("pen.cube_edge: must be positive");
+    if (!(pen->cube_edge_m <= kMaxTankSideM))
+      return out_of("pen.cube_edge", pen->cube_edge_m, 0, kMaxTankSideM);
+    if (!(pen->shaft_length_m <= kMaxTankSideM &&
+          pen->shaft_radius_m <= kMaxTankSideM &&
+          pen->tip_in_pen.norm() <= kMaxRigReachM))
+      return fail("pen: shaft and tip must lie within " +
+                  std::to_string(kMaxTankSideM) + " m of the cube");
     if (!(pen->shaft_radius_m > 0))
       return fail("pen.shaft_radius: must be positive");
     if (!(pen->shaft_length_m > 0))
@@ -264,6 +290,13 @@ bool Rig::IsValid(std::string* error) const {
     }
   }
   for (const ObstacleSpec& o : obstacles) {
+    const double size = std::max(
+        {o.box_size_m.maxCoeff(), o.radius_m, o.height_m, o.voxel_size_m});
+    if (!(size <= kMaxTankSideM) ||
+        !(o.parent_from_obstacle.translation.norm() <= kMaxRigReachM))
+      return fail("obstacles: '" + o.name + "' must be at most " +
+                  std::to_string(kMaxTankSideM) + " m large and within " +
+                  std::to_string(kMaxRigReachM) + " m of its frame");
     if (o.attached_tag >= 0 && !FindTankTag(o.attached_tag))
       return fail("obstacles: frame tag:" + std::to_string(o.attached_tag) +
                   " is not a tank tag");
@@ -285,9 +318,12 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
       slash == std::string::npos ? std::string() : path.substr(0, slash);
   Rig rig;
   try {
-    cv::FileStorage fs(path, cv::FileStorage::READ);
-    if (!fs.isOpened()) return fail("not a readable YAML file");
-    const cv::FileNode root = fs.root();
+    std::string yaml_error;
+    const std::optional<YamlNode> doc =
+        LoadYamlFile(path, YamlLimits{}, &yaml_error);
+    if (!doc) return fail(yaml_error);
+    if (!doc->IsMapping()) return fail("not a YAML mapping of rig fields");
+    const YamlNode& root = *doc;
     rig.version = ReadInt(root, "rig_version", "");
     if (rig.version != kRigVersion)
       throw FieldError{".rig_version", "unsupported version " +
@@ -298,7 +334,7 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
     if (!IsKnownTagFamily(rig.family))
       throw FieldError{".tag_family", "unknown family '" + rig.family + "'"};
 
-    const cv::FileNode tank = RequireMap(root["tank"], ".tank");
+    const YamlNode& tank = RequireMap(root["tank"], ".tank");
     const std::vector<double> size = ReadVector(tank, "inner_size", 2, ".tank");
     if (!(size[0] > 0 && size[1] > 0))
       throw FieldError{".tank.inner_size", "must be positive"};
@@ -310,7 +346,7 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
       throw FieldError{".tank.water_level", "must not exceed wall_height"};
     rig.tank_tags = ReadTags(tank, "tags", ".tank");
 
-    const cv::FileNode pen = root["pen"];
+    const YamlNode& pen = root["pen"];
     if (!pen.empty()) {
       RequireMap(pen, ".pen");
       PenSpec spec;
@@ -323,11 +359,12 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
       rig.pen = spec;
     }
 
-    const cv::FileNode obstacles = root["obstacles"];
+    const YamlNode& obstacles = root["obstacles"];
     if (!obstacles.empty()) {
-      if (!obstacles.isSeq()) throw FieldError{".obstacles", "must be a list"};
+      if (!obstacles.IsSequence())
+        throw FieldError{".obstacles", "must be a list"};
       int i = 0;
-      for (const cv::FileNode& o : obstacles)
+      for (const YamlNode& o : obstacles.children())
         rig.obstacles.push_back(ReadObstacle(
             o, ".obstacles[" + std::to_string(i++) + "]", rig_dir));
     }
@@ -335,8 +372,9 @@ std::optional<Rig> LoadRig(const std::string& path, std::string* error) {
     const std::string field =
         e.field.empty() || e.field[0] != '.' ? e.field : e.field.substr(1);
     return fail("field '" + field + "': " + e.what);
-  } catch (const cv::Exception& e) {
-    return fail("malformed YAML: " + e.err);
+  } catch (const std::exception& e) {
+    // std::bad_alloc and the like: the file is named, the program goes on.
+    return fail(std::string("cannot be read: ") + e.what());
   }
   std::string why;
   if (!rig.IsValid(&why)) return fail(why);

@@ -15,6 +15,14 @@
 namespace ripple::tracking {
 
 inline constexpr int kRigVersion = 1;
+// Bounds on a rig's lengths, metres: a tabletop tank (what the simulation
+// grid and the renderer's integer rasterisers are sized for). Sides, wall
+// height, tag edges and obstacle sizes in [kMinTankSideM, kMaxTankSideM]
+// (tags and obstacles: (0, kMaxTankSideM]); every position within
+// kMaxRigReachM of its parent's origin.
+inline constexpr double kMinTankSideM = 0.01;
+inline constexpr double kMaxTankSideM = 10.0;
+inline constexpr double kMaxRigReachM = 100.0;
 
 // One square tag fixed to an object.
 struct TagPlacement {

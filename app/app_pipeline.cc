@@ -47,8 +47,12 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->camera_ = camera;
   p->rig_ = rig;
   p->options_ = options;
+  // The detector decodes the frames as the camera file says they encode
+  // light (its edge fit and the dense refinement work in linear light).
+  tracking::TrackerOptions tracker_options = options.tracker;
+  tracker_options.detector.transfer = camera.transfer;
   p->tracker_ =
-      std::make_unique<tracking::Tracker>(camera, rig, options.tracker);
+      std::make_unique<tracking::Tracker>(camera, rig, tracker_options);
 
   sim::GridSpec grid;
   if (!WaterForRig(rig, options.sim_cells_x, options.keep_push_radius,

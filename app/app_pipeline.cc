@@ -53,7 +53,10 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->camera_ = camera;
   p->rig_ = rig;
   p->options_ = options;
+  // The detector decodes the frames as the camera file says they encode
+  // light (its edge fit and the dense refinement work in linear light).
   tracking::TrackerOptions tracker_options = options.tracker;
+  tracker_options.detector.transfer = camera.transfer;
   if (options.decimate_by_resolution) {
     tracker_options.detector.quad_decimate = QuadDecimateForHeight(
         camera.height, tracker_options.detector.quad_decimate);

@@ -12,6 +12,7 @@
 #include "app/command.h"
 #include "bench/tracking_bench.h"
 #include "bench/tracking_plot.h"
+#include "tracking/synth/variant.h"
 
 namespace ripple::app {
 namespace {
@@ -25,6 +26,7 @@ struct BenchArgs {
   bench::TrackingBenchOptions options;
   bool frames_csv = false;
   std::string floor;
+  std::vector<std::string> variants = {"exact"};
 };
 
 int RunBenchTracking(BenchArgs& args) {
@@ -35,9 +37,10 @@ int RunBenchTracking(BenchArgs& args) {
   auto floor = MakeFloorOrReport(args.floor, *rig);
   if (!floor) return kExitBadInput;
   args.options.floor = *floor;
-  args.options.sweep = args.sweep == "full"      ? bench::Sweep::kFull
-                       : args.sweep == "default" ? bench::Sweep::kDefault
-                                                 : bench::Sweep::kShort;
+  args.options.sweep = args.sweep == "full"       ? bench::Sweep::kFull
+                       : args.sweep == "default"  ? bench::Sweep::kDefault
+                       : args.sweep == "suspects" ? bench::Sweep::kSuspects
+                                                  : bench::Sweep::kShort;
   std::string error;
   if (!MakeDirectories(args.out, &error)) return Fail(kExitBadInput, error);
   const std::string csv_path = args.out + "/bench_tracking.csv";
@@ -50,32 +53,38 @@ int RunBenchTracking(BenchArgs& args) {
     bench::WriteTrackingFramesCsvHeader(&frames_csv);
   }
   bench::WriteTrackingCsvHeader(&csv);
-  for (const std::string& size : args.sizes) {
-    WxH wxh;
-    ParseWxH(size, &wxh);  // checked by the option's validator
-    const tracking::Camera camera = base_camera->Scaled(wxh.width, wxh.height);
-    bench::TrackingBenchResult result;
-    const auto progress = [&size](int done, int total) {
-      std::fprintf(stderr, "\rbench tracking %s: %d/%d frames", size.c_str(),
-                   done, total);
-    };
-    if (!bench::RunTrackingBench(args.options, camera, *rig, args.frames_csv,
-                                 progress, &result, &error))
-      return Fail(kExitBadInput, error);
-    std::fprintf(stderr, "\n");
-    std::printf("%s",
-                bench::FormatTrackingTable(args.options, size, result).c_str());
-    bench::WriteTrackingCsvRows(args.options, size, result, &csv);
-    if (frames_csv.is_open())
-      bench::WriteTrackingFramesCsvRows(size, result, &frames_csv);
-    std::fflush(stdout);
-    bench::PlotTipErrorAgainstTime(
-        result.settings,
-        "ripple bench tracking, " + size + ", " +
-            std::to_string(args.options.frames) +
-            " frames: tip error against time",
-        args.out + "/bench_tracking_" + size + ".png");
-  }
+  for (const std::string& variant : args.variants)
+    for (const std::string& size : args.sizes) {
+      args.options.variant = variant;
+      // Plots and per-frame rows of other variants carry the variant's name.
+      const std::string label =
+          variant == "exact" ? size : size + "@" + variant;
+      WxH wxh;
+      ParseWxH(size, &wxh);  // checked by the option's validator
+      const tracking::Camera camera =
+          base_camera->Scaled(wxh.width, wxh.height);
+      bench::TrackingBenchResult result;
+      const auto progress = [&size](int done, int total) {
+        std::fprintf(stderr, "\rbench tracking %s: %d/%d frames", size.c_str(),
+                     done, total);
+      };
+      if (!bench::RunTrackingBench(args.options, camera, *rig, args.frames_csv,
+                                   progress, &result, &error))
+        return Fail(kExitBadInput, error);
+      std::fprintf(stderr, "\n");
+      std::printf(
+          "%s", bench::FormatTrackingTable(args.options, size, result).c_str());
+      bench::WriteTrackingCsvRows(args.options, size, result, &csv);
+      if (frames_csv.is_open())
+        bench::WriteTrackingFramesCsvRows(label, result, &frames_csv);
+      std::fflush(stdout);
+      bench::PlotTipErrorAgainstTime(
+          result.settings,
+          "ripple bench tracking, " + label + ", " +
+              std::to_string(args.options.frames) +
+              " frames: tip error against time",
+          args.out + "/bench_tracking_" + label + ".png");
+    }
   std::printf("\nwrote %s and %s/bench_tracking_<size>.png\n", csv_path.c_str(),
               args.out.c_str());
   return kExitOk;
@@ -99,9 +108,24 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
   sub->add_option("--sweep", args->sweep,
                   "full: decimation x refinement x pen mode x region search; "
                   "short: one factor at a time around the default; "
-                  "default: the default setting only, no baselines")
+                  "default: the default setting only, no baselines; "
+                  "suspects: the corner pipeline's parts one at a time, with "
+                  "the plain SQPNP+LM baselines")
       ->capture_default_str()
-      ->check(CLI::IsMember({"full", "short", "default"}));
+      ->check(CLI::IsMember({"full", "short", "default", "suspects"}));
+  sub->add_option("--variants", args->variants,
+                  "Data variants: exact (exact area coverage), supersampled "
+                  "(3x3 ray-cast point samples, disc defocus), srgb "
+                  "(supersampled, sRGB-encoded), lens (supersampled, "
+                  "distorting lens, busy table), webcam (all of them)")
+      ->capture_default_str()
+      ->delimiter(',')
+      ->check(CLI::IsMember(synth::DataVariantNames()));
+  sub->add_option("--static-frames", args->options.static_frames,
+                  "Frames of the static sequence (segments of 30, only noise "
+                  "changing) for the jitter columns; 0: none")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100000));
   sub->add_option("--first", args->options.first,
                   "Skip (neither render nor track) the frames before this one "
                   "of the sequence (to look at one segment)")

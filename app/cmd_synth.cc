@@ -11,6 +11,7 @@
 #include "bench/stats.h"
 #include "tracking/pose_csv.h"
 #include "tracking/synth/synth.h"
+#include "tracking/synth/variant.h"
 
 namespace ripple::app {
 namespace {
@@ -24,6 +25,7 @@ struct SynthArgs {
   synth::SequenceOptions seq;
   bool no_png = false;
   std::string floor;
+  std::string variant = "exact";
 };
 
 int RunSynth(const SynthArgs& args) {
@@ -45,9 +47,13 @@ int RunSynth(const SynthArgs& args) {
   if (!MakeDirectories(args.out + "/frames", &error) ||
       (!args.no_png && !MakeDirectories(args.out + "/occluders", &error)))
     return Fail(kExitBadInput, error);
-  // The synthetic renderer writes 8-bit values linear in radiance; the
-  // camera file says so, and replay honours it.
-  camera->transfer = geometry::Transfer::kLinear;
+  // The exact variant writes 8-bit values linear in radiance, the webcam
+  // variant sRGB-encoded ones through its own lens; the camera file says
+  // so, and replay honours it.
+  synth::DataVariant variant;
+  synth::GetDataVariant(args.variant, &variant);  // checked by the option
+  *camera = synth::VariantCamera(variant, *camera);
+  for (synth::FrameSpec& f : frames) synth::ApplyVariant(variant, &f.imaging);
   if (!tracking::SaveCamera(*camera, args.out + "/camera.yml", &error) ||
       !tracking::SaveRig(*rig, args.out + "/rig.yml", &error))
     return Fail(kExitBadInput, error);
@@ -60,7 +66,7 @@ int RunSynth(const SynthArgs& args) {
                   cv::Size(camera->width, camera->height), &error))
     return Fail(kExitBadInput, error);
 
-  const synth::SceneRenderer renderer(*camera, *rig, *floor);
+  const synth::SceneRenderer renderer(*camera, *rig, *floor, variant.formation);
   const bench::Stopwatch watch;
   for (const synth::FrameSpec& f : frames) {
     const synth::RenderedFrame r =
@@ -140,10 +146,18 @@ CommandAction SetupSynth(CLI::App* sub) {
                   "Frames per smooth segment (cuts between)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000000));
-  sub->add_option("--preset", args->seq.preset,
-                  "Motion/imaging preset: benchmark, clean, demo, hands")
+  sub->add_option(
+         "--preset", args->seq.preset,
+         "Motion/imaging preset: benchmark, clean, demo, hands, static")
       ->capture_default_str()
-      ->check(CLI::IsMember({"benchmark", "clean", "demo", "hands"}));
+      ->check(CLI::IsMember({"benchmark", "clean", "demo", "hands", "static"}));
+  sub->add_option("--variant", args->variant,
+                  "Image formation: exact (exact area coverage), supersampled "
+                  "(3x3 ray-cast point samples, disc defocus), srgb "
+                  "(supersampled, sRGB-encoded), lens (supersampled, "
+                  "distorting lens, busy table) or webcam (all of them)")
+      ->capture_default_str()
+      ->check(CLI::IsMember(synth::DataVariantNames()));
   sub->add_option("--seed", args->seq.seed,
                   "Random seed (output is deterministic per seed)")
       ->capture_default_str();
@@ -159,7 +173,7 @@ CommandAction SetupSynth(CLI::App* sub) {
   AddFloorOption(sub, &args->floor);
   sub->footer([] {
     return synth::DescribePreset("benchmark") + synth::DescribePreset("clean") +
-           synth::DescribePreset("demo");
+           synth::DescribePreset("demo") + synth::DescribePreset("static");
   }());
   return [args] { return RunSynth(*args); };
 }

@@ -112,6 +112,8 @@ int RunTrack(const TrackArgs& args) {
   tracking::TrackerOptions options;
   options.detector.quad_decimate = args.decimate;
   options.detector.threads = args.threads;
+  // Frames are decoded as the camera file says they encode light.
+  options.detector.transfer = camera->transfer;
   options.pen_mode = *tracking::ParsePenMode(args.pen_mode);
   options.face_selection = *tracking::ParseFaceSelection(args.face_selection);
   options.pose.refine = !args.no_refine;

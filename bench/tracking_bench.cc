@@ -11,11 +11,14 @@
 #include "bench/stats.h"
 #include "tracking/baselines.h"
 #include "tracking/synth/synth.h"
+#include "tracking/synth/variant.h"
 
 namespace ripple::bench {
 namespace {
 
 using tracking::Pose;
+
+constexpr double kDeg = M_PI / 180.0;
 
 // Run-time percentiles as the error table's: rounded rank, NaN when empty.
 double Pct(const std::vector<double>& v, double p) {
@@ -23,6 +26,14 @@ double Pct(const std::vector<double>& v, double p) {
   options.rank = PercentileOptions::Rank::kRounded;
   options.empty_value = NAN;
   return Percentile(v, p, options);
+}
+
+// Root mean square of per-segment deviations (NaN when none).
+double Rms(const std::vector<double>& v) {
+  if (v.empty()) return NAN;
+  double ss = 0;
+  for (double x : v) ss += x * x;
+  return std::sqrt(ss / v.size());
 }
 
 // What one setting produced on one frame.
@@ -45,7 +56,29 @@ std::string SettingName(const tracking::TrackerOptions& o) {
           : "",
       o.pose.refine ? " ceres" : " ippe", o.roi.enabled ? "roi" : "full",
       o.pen_dense.enabled ? " dense" : "");
-  return buf;
+  std::string name = buf;
+  // What a suspects sweep changes beyond the factors above.
+  const tracking::TrackerOptions d;
+  if (!o.detector.edge_fit) name += " no-edge-fit";
+  if (o.detector.edge_outward_px != d.detector.edge_outward_px) {
+    std::snprintf(buf, sizeof(buf), " outward %g px",
+                  o.detector.edge_outward_px);
+    name += buf;
+  }
+  if (o.detector.pixel_offset_px != d.detector.pixel_offset_px) {
+    std::snprintf(buf, sizeof(buf), " offset %g px",
+                  o.detector.pixel_offset_px);
+    name += buf;
+  }
+  if (o.pose.loss == tracking::RobustLoss::kNone) {
+    name += " no-loss";
+  } else if (o.pose.loss_scale_px != d.pose.loss_scale_px) {
+    std::snprintf(buf, sizeof(buf), " loss %g px", o.pose.loss_scale_px);
+    name += buf;
+  }
+  if (o.pose.weight_by_view_angle != d.pose.weight_by_view_angle)
+    name += o.pose.weight_by_view_angle ? " view-weights" : " no-view-weights";
+  return name;
 }
 
 bool IsDefault(const tracking::TrackerOptions& o) {
@@ -55,7 +88,13 @@ bool IsDefault(const tracking::TrackerOptions& o) {
          o.pose.refine == defaults.pose.refine &&
          o.roi.enabled == defaults.roi.enabled &&
          o.pen_dense.enabled == defaults.pen_dense.enabled &&
-         o.face_selection == defaults.face_selection;
+         o.face_selection == defaults.face_selection &&
+         o.detector.edge_fit == defaults.detector.edge_fit &&
+         o.detector.edge_outward_px == defaults.detector.edge_outward_px &&
+         o.detector.pixel_offset_px == defaults.detector.pixel_offset_px &&
+         o.pose.loss == defaults.pose.loss &&
+         o.pose.loss_scale_px == defaults.pose.loss_scale_px &&
+         o.pose.weight_by_view_angle == defaults.pose.weight_by_view_angle;
 }
 
 Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
@@ -73,6 +112,7 @@ Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
       case Baseline::kIppe:
         return tracking::OpenCvIppeBestTagPose(camera, obs, point);
       case Baseline::kSqpnpLm:
+      case Baseline::kPlainSqpnpLm:
         return tracking::SqpnpLmPose(camera, obs);
       default:
         return std::nullopt;
@@ -140,6 +180,32 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
           }
   } else if (sweep == Sweep::kDefault) {
     list.push_back(defaults);
+  } else if (sweep == Sweep::kSuspects) {
+    list.push_back(defaults);
+    tracking::TrackerOptions o = defaults;
+    o.detector.edge_fit = false;
+    list.push_back(o);
+    o = defaults;
+    o.detector.edge_outward_px = 0;
+    list.push_back(o);
+    o = defaults;
+    o.detector.edge_fit = false;
+    o.detector.edge_outward_px = 0;
+    list.push_back(o);
+    for (double scale : {0.3, 3.0}) {
+      o = defaults;
+      o.pose.loss_scale_px = scale;
+      list.push_back(o);
+    }
+    o = defaults;
+    o.pose.loss = tracking::RobustLoss::kNone;
+    list.push_back(o);
+    o = defaults;
+    o.pose.weight_by_view_angle = !defaults.pose.weight_by_view_angle;
+    list.push_back(o);
+    o = defaults;
+    o.pen_dense.enabled = !defaults.pen_dense.enabled;
+    list.push_back(o);
   } else {
     list.push_back(defaults);
     for (double d : {1.0, 1.5, 2.0, 3.0, 4.0}) {
@@ -161,7 +227,7 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     o.pen_dense.enabled = !defaults.pen_dense.enabled;
     list.push_back(o);
   }
-  if (sweep != Sweep::kDefault) {
+  if (sweep == Sweep::kShort || sweep == Sweep::kFull) {
     tracking::TrackerOptions frontal = defaults;
     frontal.pen_mode = tracking::PenMode::kBestFace;
     frontal.face_selection = tracking::FaceSelection::kMostFrontal;
@@ -177,55 +243,156 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     settings.push_back(std::move(s));
   }
   if (sweep == Sweep::kDefault) return settings;
-  for (auto [b, name] :
-       {std::make_pair(Baseline::kPaper,
-                       "paper: frontal face, estimate_tag_pose"),
-        std::make_pair(Baseline::kIppe, "opencv IPPE_SQUARE, best-posed face"),
-        std::make_pair(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners")}) {
+  auto add = [&](Baseline b, const char* name, double plain_decimate) {
     auto s = std::make_unique<TrackingSetting>();
     s->baseline = b;
     s->name = name;
+    s->plain_decimate = plain_decimate;
     settings.push_back(std::move(s));
+  };
+  if (sweep != Sweep::kSuspects) {
+    add(Baseline::kPaper, "paper: frontal face, estimate_tag_pose", 2);
+    add(Baseline::kIppe, "opencv IPPE_SQUARE, best-posed face", 2);
   }
+  add(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners", 2);
+  add(Baseline::kPlainSqpnpLm,
+      "plain: SQPNP+LM on apriltag corners -0.5 px, d2", 2);
+  add(Baseline::kPlainSqpnpLm,
+      "plain: SQPNP+LM on apriltag corners -0.5 px, d1", 1);
   return settings;
 }
 
 bool RunTrackingBench(const TrackingBenchOptions& options,
-                      const tracking::Camera& camera, const tracking::Rig& rig,
-                      bool keep_frame_rows,
+                      const tracking::Camera& base_camera,
+                      const tracking::Rig& rig, bool keep_frame_rows,
                       const std::function<void(int, int)>& progress,
                       TrackingBenchResult* result, std::string* error) {
+  synth::DataVariant variant;
+  if (!synth::GetDataVariant(options.variant, &variant)) {
+    if (error) *error = "unknown data variant '" + options.variant + "'";
+    return false;
+  }
+  const tracking::Camera camera = synth::VariantCamera(variant, base_camera);
   synth::SequenceOptions seq;
   seq.preset = "benchmark";
   seq.frames = options.frames;
   seq.seed = options.seed;
-  std::vector<synth::FrameSpec> specs;
+  std::vector<synth::FrameSpec> specs, still;
   if (!synth::MakeSequence(camera, rig, seq, &specs, error)) return false;
-  synth::SceneRenderer renderer(camera, rig, options.floor);
+  if (options.static_frames > 0) {
+    seq.preset = "static";
+    seq.frames = options.static_frames;
+    seq.segment_frames = 30;
+    seq.seed = options.seed + 1000;
+    if (!synth::MakeSequence(camera, rig, seq, &still, error)) return false;
+  }
+  for (auto* list : {&specs, &still})
+    for (synth::FrameSpec& f : *list) synth::ApplyVariant(variant, &f.imaging);
+  synth::SceneRenderer renderer(camera, rig, options.floor, variant.formation);
   result->settings = MakeTrackingSettings(options.sweep, options.threads);
   auto& settings = result->settings;
+  // Every detector decodes the frames as the variant's camera file says,
+  // as `ripple track` does (the plain baseline's libapriltag corners do not
+  // depend on it).
+  for (auto& s : settings) s->options.detector.transfer = camera.transfer;
   std::map<double, std::unique_ptr<tracking::TagDetector>> detectors;
-  for (auto& s : settings) {
-    if (s->baseline != Baseline::kNone) continue;
-    s->tracker = std::make_unique<tracking::Tracker>(camera, rig, s->options);
-    const double d = s->options.detector.quad_decimate;
-    if (!detectors.count(d)) {
-      tracking::TagDetectorOptions o = s->options.detector;
-      o.family = rig.family;
-      detectors[d] = std::make_unique<tracking::TagDetector>(o);
-    }
-  }
+  // libapriltag's corners moved by the pixel offset only, per decimation.
+  std::map<double, std::unique_ptr<tracking::TagDetector>> plain_detectors;
   const double default_d = tracking::TagDetectorOptions{}.quad_decimate;
+  auto make_trackers = [&] {
+    for (auto& s : settings)
+      if (s->baseline == Baseline::kNone)
+        s->tracker =
+            std::make_unique<tracking::Tracker>(camera, rig, s->options);
+  };
+  make_trackers();
+  for (auto& s : settings) {
+    if (s->baseline == Baseline::kPlainSqpnpLm) {
+      tracking::TagDetectorOptions o;
+      o.family = rig.family;
+      o.threads = options.threads;
+      o.quad_decimate = s->plain_decimate;
+      o.edge_fit = false;
+      o.edge_outward_px = 0;
+      o.transfer = camera.transfer;
+      plain_detectors[s->plain_decimate] =
+          std::make_unique<tracking::TagDetector>(o);
+      continue;
+    }
+    if (s->baseline != Baseline::kNone) continue;
+    const double d = s->options.detector.quad_decimate;
+    // Settings without region search share a detection per decimation when
+    // their detector options are the default's.
+    tracking::TagDetectorOptions o = s->options.detector;
+    o.family = rig.family;
+    tracking::TagDetectorOptions def;
+    def.family = rig.family;
+    def.transfer = camera.transfer;
+    def.quad_decimate = d;
+    def.threads = o.threads;
+    if (!detectors.count(d) && o.edge_fit == def.edge_fit &&
+        o.edge_outward_px == def.edge_outward_px &&
+        o.pixel_offset_px == def.pixel_offset_px)
+      detectors[d] = std::make_unique<tracking::TagDetector>(o);
+  }
   if (!detectors.count(default_d)) {
     tracking::TagDetectorOptions o;
     o.family = rig.family;
     o.threads = options.threads;
+    o.transfer = camera.transfer;
     detectors[default_d] = std::make_unique<tracking::TagDetector>(o);
   }
+  // Per setting, the current static segment's tip and rotations.
+  struct StaticSamples {
+    std::vector<Eigen::Vector3d> tip;
+    std::vector<Pose> pen, tank;
+  };
+  std::vector<StaticSamples> samples(settings.size());
+  auto mean_rotation = [](const std::vector<Pose>& poses) {
+    Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+    for (const Pose& p : poses) {
+      Eigen::Vector4d q = p.rotation.coeffs();
+      if (q.dot(poses.front().rotation.coeffs()) < 0) q = -q;
+      sum += q;
+    }
+    Eigen::Quaterniond m;
+    m.coeffs() = sum.normalized();
+    return m;
+  };
+  auto rms_rotation_deg = [&](const std::vector<Pose>& poses) {
+    const Eigen::Quaterniond m = mean_rotation(poses);
+    double ss = 0;
+    for (const Pose& p : poses) {
+      const double a = p.rotation.angularDistance(m) / kDeg;
+      ss += a * a;
+    }
+    return std::sqrt(ss / poses.size());
+  };
+  // Closes a static segment: its jitter into each setting's samples.
+  auto close_segment = [&] {
+    for (size_t i = 0; i < settings.size(); ++i) {
+      StaticSamples& st = samples[i];
+      TrackingSetting& s = *settings[i];
+      if (st.tip.size() >= 2) {
+        Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+        for (const auto& t : st.tip) mean += t;
+        mean /= st.tip.size();
+        double ss = 0;
+        for (const auto& t : st.tip) ss += (t - mean).squaredNorm();
+        s.jitter_tip_mm.push_back(1000 * std::sqrt(ss / st.tip.size()));
+      }
+      if (st.pen.size() >= 2)
+        s.jitter_pen_rot_deg.push_back(rms_rotation_deg(st.pen));
+      if (st.tank.size() >= 2)
+        s.jitter_tank_rot_deg.push_back(rms_rotation_deg(st.tank));
+      st = StaticSamples();
+    }
+  };
   double render_ms = 0;
   const Stopwatch total;
-  for (const synth::FrameSpec& spec : specs) {
-    if (spec.index < options.first) continue;
+  const int total_frames = static_cast<int>(specs.size() + still.size());
+  int done = 0;
+  auto run_frame = [&](const synth::FrameSpec& spec, bool is_static) {
     const Stopwatch render_watch;
     const synth::RenderedFrame frame =
         renderer.Render(spec.scene, spec.imaging, spec.noise_seed);
@@ -234,27 +401,40 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
     cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
     // Shared full-frame detections (grey conversion charged to each).
     std::map<double, std::pair<std::vector<tracking::TagDetection>, double>>
-        shared;
-    for (auto& [d, detector] : detectors) {
-      const Stopwatch detect_watch;
-      cv::Mat g;
-      cv::cvtColor(frame.image, g, cv::COLOR_BGR2GRAY);
-      auto dets = detector->Detect(g);
-      shared[d] = {std::move(dets), detect_watch.ElapsedMs()};
-    }
-    for (auto& s : settings) {
+        shared, plain;
+    auto detect = [&](auto& from, auto* into) {
+      for (auto& [d, detector] : from) {
+        const Stopwatch detect_watch;
+        cv::Mat g;
+        cv::cvtColor(frame.image, g, cv::COLOR_BGR2GRAY);
+        auto dets = detector->Detect(g);
+        (*into)[d] = {std::move(dets), detect_watch.ElapsedMs()};
+      }
+    };
+    detect(detectors, &shared);
+    detect(plain_detectors, &plain);
+    for (size_t si = 0; si < settings.size(); ++si) {
+      TrackingSetting* s = settings[si].get();
       Outcome o;
       std::string pen_status;
       if (s->baseline != Baseline::kNone) {
-        const auto& [dets, ms] = shared[default_d];
+        const auto& [dets, ms] = s->baseline == Baseline::kPlainSqpnpLm
+                                     ? plain[s->plain_decimate]
+                                     : shared[default_d];
         o = RunBaseline(s->baseline, camera, rig, dets);
         o.ms += ms;
       } else {
         tracking::FrameResult r;
-        if (s->options.roi.enabled) {
+        const double d = s->options.detector.quad_decimate;
+        if (s->options.roi.enabled || !detectors.count(d) ||
+            detectors[d]->options().edge_fit != s->options.detector.edge_fit ||
+            detectors[d]->options().edge_outward_px !=
+                s->options.detector.edge_outward_px ||
+            detectors[d]->options().pixel_offset_px !=
+                s->options.detector.pixel_offset_px) {
           r = s->tracker->Track(frame.image, spec.time_s);
         } else {
-          const auto& [dets, ms] = shared[s->options.detector.quad_decimate];
+          const auto& [dets, ms] = shared[d];
           r = s->tracker->TrackDetections(dets, spec.time_s, ms, &gray);
         }
         o.tank = r.tank.cam_from_object;
@@ -269,8 +449,19 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
         o.pen_ambiguous = r.pen.ambiguous;
         pen_status = tracking::ToString(r.pen.status);
       }
+      if (is_static) {
+        StaticSamples& st = samples[si];
+        if (o.tank && o.tank_tracked) st.tank.push_back(*o.tank);
+        if (o.pen && o.pen_tracked) {
+          st.pen.push_back(*o.pen);
+          if (o.tank && o.tank_tracked)
+            st.tip.push_back(o.tank->Inverse() *
+                             (*o.pen * rig.pen->tip_in_pen));
+        }
+        continue;
+      }
       TrackingFrameRow row;
-      Accumulate(rig, spec, frame, o, s.get(), &row);
+      Accumulate(rig, spec, frame, o, s, &row);
       if (!keep_frame_rows) continue;
       row.frame = spec.index;
       row.setting = s->name;
@@ -287,9 +478,18 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
       row.pen_ambiguous = o.pen_ambiguous;
       result->frame_rows.push_back(std::move(row));
     }
-    if ((spec.index + 1) % 50 == 0 && progress)
-      progress(spec.index + 1, static_cast<int>(specs.size()));
+    if (++done % 50 == 0 && progress) progress(done, total_frames);
+  };
+  for (const synth::FrameSpec& spec : specs)
+    if (spec.index >= options.first) run_frame(spec, false);
+  for (size_t i = 0; i < still.size(); ++i) {
+    if (i % 30 == 0) {
+      if (i > 0) close_segment();
+      make_trackers();  // each static segment starts afresh
+    }
+    run_frame(still[i], true);
   }
+  if (!still.empty() && rig.pen) close_segment();
   result->render_s = render_ms / 1000;
   result->tracking_s = (total.ElapsedMs() - render_ms) / 1000;
   return true;
@@ -302,27 +502,34 @@ std::string FormatTrackingTable(const TrackingBenchOptions& options,
   char buf[1024];
   std::snprintf(
       buf, sizeof(buf),
-      "\n### %s, %d frames of synth's benchmark preset (seed %llu, %s "
-      "floor), %d detector thread(s); rendering took %.1f s, tracking %.1f "
-      "s\n\n",
-      size.c_str(), options.frames,
+      "\n### %s, %s frames, %d frames of synth's benchmark preset (seed "
+      "%llu, %s floor), %d static; %d detector thread(s); rendering took "
+      "%.1f s, tracking %.1f s\n\n",
+      size.c_str(), options.variant.c_str(), options.frames,
       static_cast<unsigned long long>(options.seed),
-      synth::ToString(options.floor.kind()), options.threads, result.render_s,
-      result.tracking_s);
+      synth::ToString(options.floor.kind()), options.static_frames,
+      options.threads, result.render_s, result.tracking_s);
   out += buf;
   out += "| # | setting | ms/frame " + ErrorTableHeaderCells() +
-         "|\n|---|---|---" + ErrorTableSeparatorCells() + "|\n";
+         "| static pen: jitter tip mm / pen ° / tank ° |\n|---|---|---" +
+         ErrorTableSeparatorCells() + "|---|\n";
   for (size_t i = 0; i < result.settings.size(); ++i) {
     const TrackingSetting& s = *result.settings[i];
     std::snprintf(buf, sizeof(buf), "| %zu | %s | %.2f ", i + 1, s.name.c_str(),
                   Pct(s.ms, 50));
-    out += buf + ErrorTableCells(s.errors.Summarize()) + "|\n";
+    out += buf + ErrorTableCells(s.errors.Summarize());
+    std::snprintf(buf, sizeof(buf), "| %.3f / %.4f / %.4f |\n",
+                  Rms(s.jitter_tip_mm), Rms(s.jitter_pen_rot_deg),
+                  Rms(s.jitter_tank_rot_deg));
+    out += buf;
   }
   return out;
 }
 
 void WriteTrackingCsvHeader(std::ostream* csv) {
-  *csv << "size,frames,setting,ms_median,ms_p95," << ErrorCsvHeader() << '\n';
+  *csv << "size,frames,setting,ms_median,ms_p95," << ErrorCsvHeader()
+       << ",variant,static_jitter_tip_mm,static_jitter_pen_rot_deg,"
+          "static_jitter_tank_rot_deg\n";
 }
 
 void WriteTrackingCsvRows(const TrackingBenchOptions& options,
@@ -333,7 +540,9 @@ void WriteTrackingCsvRows(const TrackingBenchOptions& options,
     const TrackingSetting& s = *setting;
     *csv << size << ',' << options.frames << ",\"" << s.name << "\","
          << Pct(s.ms, 50) << ',' << Pct(s.ms, 95) << ','
-         << ErrorCsvFields(s.errors.Summarize()) << '\n';
+         << ErrorCsvFields(s.errors.Summarize()) << ',' << options.variant
+         << ',' << Rms(s.jitter_tip_mm) << ',' << Rms(s.jitter_pen_rot_deg)
+         << ',' << Rms(s.jitter_tank_rot_deg) << '\n';
   }
 }
 

@@ -31,6 +31,10 @@ enum class Baseline {
   kPaper,    // frontal face, apriltag's estimate_tag_pose
   kIppe,     // OpenCV IPPE_SQUARE on the best-posed face
   kSqpnpLm,  // OpenCV SQPNP + LM on all corners
+  // The plain method: OpenCV SQPNP + LM on all corners of libapriltag's own
+  // detections, moved by -0.5 px into OpenCV's convention and nothing else
+  // (no edge re-fit, no outward shift), at TrackingSetting::plain_decimate.
+  kPlainSqpnpLm,
 };
 
 // Which settings a run compares.
@@ -38,16 +42,25 @@ enum class Sweep {
   kFull,     // decimation x refinement x pen mode x region search
   kShort,    // one factor at a time around the default
   kDefault,  // the default setting only, no baselines
+  // The corner pipeline's suspects, one at a time against the default:
+  // no edge re-fit, no outward edge shift, other loss scales, no view-angle
+  // weights, no dense refinement; with the plain baselines.
+  kSuspects,
 };
 
 // One setting under test and its per-frame samples.
 struct TrackingSetting {
   std::string name;  // "d2 joint ceres roi dense [default]", ...
   Baseline baseline = Baseline::kNone;
+  double plain_decimate = 2.0;       // kPlainSqpnpLm only
   tracking::TrackerOptions options;  // kNone only
   std::unique_ptr<tracking::Tracker> tracker;
   std::vector<double> ms;       // per frame, milliseconds
   PoseErrorAccumulator errors;  // per frame, against synth's truth
+  // Jitter on the static sequence (TrackingBenchOptions::static_frames):
+  // per static segment the RMS deviation of the tip from its mean (mm) and
+  // of the pen's and the tank's rotation from their mean rotation (degrees).
+  std::vector<double> jitter_tip_mm, jitter_pen_rot_deg, jitter_tank_rot_deg;
 
   bool is_default() const;
 };
@@ -63,6 +76,14 @@ struct TrackingBenchOptions {
   int threads = 1;   // detector threads
   uint64_t seed = 1;
   synth::FloorPattern floor;  // the tank floor drawn in the frames
+  // How the frames are formed and imaged (synth/variant.h): "exact",
+  // "supersampled", "webcam". The camera given to RunTrackingBench is the
+  // base; the variant's lens replaces its distortion.
+  std::string variant = "exact";
+  // Frames of synth's static preset (segments of 30, nothing moving, only
+  // the noise changing) tracked after the benchmark frames for the jitter
+  // columns, each segment by fresh trackers; 0: none.
+  int static_frames = 0;
 };
 
 // Per-frame errors of one setting: a row of the frames CSV.

@@ -166,6 +166,18 @@ bool FitEdgeLine(const cv::Mat& g, const Eigen::Vector2d& a,
 
 }  // namespace
 
+cv::Mat DecodeToLinearLut(geometry::Transfer transfer) {
+  cv::Mat lut(1, 256, CV_8U);
+  for (int i = 0; i < 256; ++i) {
+    const double v = i / 255.0;
+    const double l = transfer == geometry::Transfer::kLinear ? v
+                     : v <= 0.04045                          ? v / 12.92
+                                    : std::pow((v + 0.055) / 1.055, 2.4);
+    lut.at<uint8_t>(i) = cv::saturate_cast<uint8_t>(std::lround(255.0 * l));
+  }
+  return lut;
+}
+
 std::array<Eigen::Vector2d, 4> FitTagEdges(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
     double cell_px, double max_shift_px) {
@@ -202,7 +214,9 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
 struct TagDetector::Impl {
   std::unique_ptr<TagFamily> family;
   apriltag_detector_t* detector = nullptr;
-  cv::Mat gray;  // conversion buffer for colour input
+  cv::Mat gray;        // conversion buffer for colour input
+  cv::Mat decode_lut;  // 8-bit value -> linear 8-bit; empty when linear
+  cv::Mat linear;      // the decoded frame
 
   ~Impl() {
     if (detector) apriltag_detector_destroy(detector);
@@ -215,6 +229,8 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
   RIPPLE_CHECK(options.IsValid(&error),
                "TagDetector: invalid options: " + error);
   impl_->family = TagFamily::Create(options.family);
+  if (options.transfer != geometry::Transfer::kLinear)
+    impl_->decode_lut = DecodeToLinearLut(options.transfer);
   impl_->detector = apriltag_detector_create();
   apriltag_detector_add_family_bits(impl_->detector, impl_->family->get(),
                                     std::max(options.max_hamming, 1));
@@ -242,6 +258,10 @@ std::vector<TagDetection> TagDetector::Detect(
   } else if (image.channels() == 4) {
     cv::cvtColor(image, impl_->gray, cv::COLOR_BGRA2GRAY);
     gray = &impl_->gray;
+  }
+  if (!impl_->decode_lut.empty()) {
+    cv::LUT(*gray, impl_->decode_lut, impl_->linear);
+    gray = &impl_->linear;
   }
   std::vector<cv::Rect> regions;
   const cv::Rect whole(0, 0, gray->cols, gray->rows);

@@ -19,6 +19,8 @@
 #include <string>
 #include <vector>
 
+#include "geometry/camera_model.h"
+
 namespace ripple::tracking {
 
 // One detected tag. Corners are in the order top-left, top-right,
@@ -67,6 +69,15 @@ struct TagDetectorOptions {
   bool edge_fit = true;
   // A fitted corner further than this from libapriltag's is not trusted.
   double edge_fit_max_shift_px = 1.5;
+  // How the image's 8-bit values encode light (the camera file's
+  // `transfer`). Blur mixes light, not encoded values: a blurred edge of an
+  // sRGB-encoded image crosses its encoded mid level on the dark side,
+  // about 0.5 px inside the black square at the benchmark preset's blur
+  // (tests/tracking/synth_track_test.cc), and small black cells blurred
+  // into white paper look lighter than in linear light, so libapriltag's
+  // mid-range threshold loses them. kSrgb frames are decoded (IEC
+  // 61966-2-1, to 8-bit linear values) before detection and the edge fit.
+  geometry::Transfer transfer = geometry::Transfer::kLinear;
 
   bool IsValid(std::string* error) const;
 };
@@ -108,6 +119,10 @@ class TagDetector {
 std::array<Eigen::Vector2d, 4> FitTagEdges(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
     double cell_px, double max_shift_px);
+
+// A cv::LUT table (1 x 256, CV_8U) from 8-bit values of `transfer` to 8-bit
+// values linear in light (identity for kLinear).
+cv::Mat DecodeToLinearLut(geometry::Transfer transfer);
 
 // Applies the detector's bias correction to libapriltag's raw corners
 // (already in TL, TR, BR, BL order). Exposed for tests and benchmarks.

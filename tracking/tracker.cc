@@ -330,10 +330,20 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
       pen_estimate =
           EstimatePen(pen_obs, use_prior, r.tank.cam_from_object, time_s);
     const double t_dense = NowMs();
-    const bool refined =
-        pen_estimate && gray && pen_dense_model_ &&
-        DenseRefinePose(*gray, camera_, *pen_dense_model_, options_.pen_dense,
-                        &pen_estimate->pose.cam_from_object);
+    // The dense model's gain and offset are linear in light: sRGB-encoded
+    // values are decoded first.
+    const cv::Mat* dense_gray = gray;
+    if (pen_estimate && gray && pen_dense_model_ &&
+        options_.detector.transfer != geometry::Transfer::kLinear) {
+      if (decode_lut_.empty())
+        decode_lut_ = DecodeToLinearLut(options_.detector.transfer);
+      cv::LUT(*gray, decode_lut_, linear_gray_);
+      dense_gray = &linear_gray_;
+    }
+    const bool refined = pen_estimate && gray && pen_dense_model_ &&
+                         DenseRefinePose(*dense_gray, camera_,
+                                         *pen_dense_model_, options_.pen_dense,
+                                         &pen_estimate->pose.cam_from_object);
     r.timings.dense_ms = NowMs() - t_dense;
     if (refined) {
       int corners = 0;

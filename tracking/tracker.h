@@ -182,6 +182,9 @@ class Tracker {
   TagDetector detector_;
   std::optional<DenseTagModel> pen_dense_model_;
   cv::Mat gray_;  // grey conversion of a colour frame
+  // The detector's transfer decoded to linear 8-bit values for the dense
+  // refinement (built on first use; empty for linear frames).
+  cv::Mat decode_lut_, linear_gray_;
   ObjectState tank_;
   ObjectState pen_;
   RoiSearch roi_search_;

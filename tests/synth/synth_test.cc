@@ -5,46 +5,21 @@
 #include <cmath>
 #include <opencv2/calib3d.hpp>
 
+#include "tests/synth/one_tag_scene.h"
 #include "tracking/synth/raster.h"
 #include "tracking/tag_family.h"
 
 namespace ripple::synth {
 namespace {
 
+using testing::BlackFraction;
+using testing::OneTagRig;
+using testing::TestCamera;
+
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 using tracking::Camera;
 using tracking::Rig;
-
-// One big tag36h11 tag (id 0) at the tank origin, image axes as DESIGN.md.
-Rig OneTagRig(double edge) {
-  Rig rig;
-  rig.family = "tag36h11";
-  rig.tank = {0.3, 0.3, 0.05, 0.03};
-  tracking::TagPlacement tag;
-  tag.id = 0;
-  tag.edge_m = edge;
-  tag.object_from_tag = Pose(Eigen::Quaterniond(0, 1, 0, 0), Vector3d::Zero());
-  rig.tank_tags.push_back(tag);
-  return rig;
-}
-
-Camera TestCamera() {
-  Camera c;
-  c.width = 320;
-  c.height = 240;
-  c.fx = 300.7;
-  c.fy = 290.2;
-  c.cx = 161.3;
-  c.cy = 117.8;
-  return c;
-}
-
-// Black fraction of each pixel from a flat-lit linear render.
-double BlackFraction(const cv::Mat& linear, int u, int v) {
-  const cv::Vec3f p = linear.at<cv::Vec3f>(v, u);
-  return (kPaperBgr[0] - p[0]) / (kPaperBgr[0] - kInkBgr[0]);
-}
 
 // Black cells of tag 0 as tag-frame rectangles.
 std::vector<std::array<double, 4>> BlackCells(double edge) {

@@ -34,6 +34,9 @@ struct Preset {
   bool hand_on_pen = false;     // a hand holds the pen's shaft
   bool hand_over_tank = false;  // a hand sweeps over the tank per segment
   bool scripted_demo = false;
+  // Nothing moves within a segment (camera, pen, exposure and blur fixed):
+  // only the noise differs from frame to frame.
+  bool static_scene = false;
 };
 
 bool GetPreset(const std::string& name, Preset* p) {
@@ -47,6 +50,16 @@ bool GetPreset(const std::string& name, Preset* p) {
     p->jpeg_quality = {70, 95};
     p->exposure = {0.7, 1.1};
     p->hand_fraction = 0.25;
+    return true;
+  }
+  if (name == "static") {
+    // The benchmark's imaging without motion blur, held per segment.
+    p->defocus_px = {0.3, 1.2};
+    p->read_noise_dn = {2, 4};
+    p->shot_noise_gain = 0.1;
+    p->jpeg_quality = {70, 95};
+    p->exposure = {0.7, 1.1};
+    p->static_scene = true;
     return true;
   }
   if (name == "demo") {
@@ -164,6 +177,9 @@ std::string DescribePreset(const std::string& name) {
   if (p.hand_over_tank)
     s << "  a hand sweeps across the tank, 40-90 mm above the board, over "
          "the middle half of each segment\n";
+  if (p.static_scene)
+    s << "  static: per segment one camera, pen, exposure, defocus and JPEG "
+         "quality; only the noise changes between frames\n";
   if (p.scripted_demo)
     s << "  demo script: fixed camera, the pen dips in, stirs slowly, "
          "strokes fast under the obstacle and lifts out\n";
@@ -177,7 +193,7 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
   if (!GetPreset(options.preset, &preset)) {
     if (error)
       *error = "unknown preset '" + options.preset +
-               "' (benchmark, clean, demo, hands)";
+               "' (benchmark, clean, demo, hands, static)";
     return false;
   }
   if (options.frames < 1 || options.segment_frames < 1 || !(options.fps > 0)) {
@@ -259,8 +275,18 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
       ambient_share = 0.25 + 0.25 * light01();
     }
 
+    // A static segment's imaging, drawn once (only for it, so that the other
+    // presets' sequences stay as they were).
+    const bool still = preset.static_scene;
+    const double static_defocus = still ? uni(preset.defocus_px) : 0.0;
+    const double static_read = still ? uni(preset.read_noise_dn) : 0.0;
+    const int static_jpeg =
+        still ? int(std::round(uni(preset.jpeg_quality))) : 0;
     for (int i = 0; i < n; ++i) {
-      const double t = n > 1 ? double(i) / (n - 1) : 0.0, s = Smooth(t);
+      const double t = preset.static_scene ? 0.0
+                       : n > 1             ? double(i) / (n - 1)
+                                           : 0.0;
+      const double s = Smooth(t);
       FrameSpec f;
       f.index = start + i;
       f.time_s = f.index / options.fps;
@@ -371,6 +397,13 @@ bool MakeSequence(const tracking::Camera& camera, const tracking::Rig& rig,
       f.imaging.read_noise_dn = uni(preset.read_noise_dn);
       f.imaging.shot_noise_gain = preset.shot_noise_gain;
       f.imaging.jpeg_quality = int(std::round(uni(preset.jpeg_quality)));
+      if (preset.static_scene) {
+        f.imaging.exposure = exposure;
+        f.imaging.defocus_sigma_px = static_defocus;
+        f.imaging.motion_blur_px = 0;
+        f.imaging.read_noise_dn = static_read;
+        f.imaging.jpeg_quality = static_jpeg;
+      }
       f.noise_seed = rng();
       frames->push_back(std::move(f));
     }

@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <cmath>
 #include <memory>
+#include <opencv2/calib3d.hpp>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "geometry/check.h"
 #include "geometry/polygon2d.h"
 #include "tracking/synth/raster.h"
 #include "tracking/tag_family.h"
@@ -188,6 +190,10 @@ struct SceneRenderer::Impl {
   std::vector<TagCells> tank_tags;  // parallel to rig.tank_tags
   std::vector<TagCells> pen_tags;   // parallel to rig.pen->faces
   CellRect sheet{0, 0, 0, 0};       // the printed sheet in the tank plane
+  // kPointSampled: the undistorted normalised ray through each sample of
+  // the (N W) x (N H) sample grid, row-major.
+  int samples = 1;
+  std::vector<Vector2d> sample_rays;
 };
 
 namespace {
@@ -277,10 +283,66 @@ float IntegrateLayer(const PlanarLayer& layer, const Vector2d quad[4],
 
 }  // namespace
 
+bool ParseFormation(const std::string& name, Formation* formation) {
+  if (name == "exact") {
+    *formation = Formation::kExactArea;
+    return true;
+  }
+  if (name == "supersampled") {
+    *formation = Formation::kPointSampled;
+    return true;
+  }
+  return false;
+}
+
+const char* FormationName(Formation formation) {
+  return formation == Formation::kPointSampled ? "supersampled" : "exact";
+}
+
+bool FormationOptions::IsValid(std::string* error) const {
+  if (samples_per_axis < 1 || samples_per_axis > 8) {
+    if (error) *error = "samples per axis must be in [1, 8]";
+    return false;
+  }
+  if (busy_table && formation != Formation::kPointSampled) {
+    if (error) *error = "a busy table needs the supersampled formation";
+    return false;
+  }
+  return true;
+}
+
 SceneRenderer::SceneRenderer(const tracking::Camera& camera,
-                             const tracking::Rig& rig, FloorPattern floor)
-    : camera_(camera), rig_(rig), floor_(std::move(floor)) {
+                             const tracking::Rig& rig, FloorPattern floor,
+                             FormationOptions formation)
+    : camera_(camera),
+      rig_(rig),
+      floor_(std::move(floor)),
+      formation_(formation) {
+  std::string error;
+  RIPPLE_CHECK(formation.IsValid(&error), "SceneRenderer: " + error);
   auto impl = std::make_shared<Impl>();
+  if (formation.formation == Formation::kPointSampled) {
+    // Sample rays through OpenCV's own undistortion (not the camera model's
+    // inverse used by the exact formation), iterated to convergence.
+    const int n = formation.samples_per_axis;
+    impl->samples = n;
+    const int sw = camera.width * n, sh = camera.height * n;
+    std::vector<cv::Point2d> px(size_t(sw) * sh), rays;
+    for (int j = 0; j < sh; ++j)
+      for (int i = 0; i < sw; ++i)
+        px[size_t(j) * sw + i] =
+            cv::Point2d((i + 0.5) / n - 0.5, (j + 0.5) / n - 0.5);
+    const cv::Matx33d k(camera.fx, 0, camera.cx, 0, camera.fy, camera.cy, 0, 0,
+                        1);
+    const std::vector<double> dist(camera.dist.begin(), camera.dist.end());
+    cv::undistortPoints(
+        px, rays, k, dist, cv::noArray(), cv::noArray(),
+        cv::TermCriteria(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, 100,
+                         1e-12));
+    impl->sample_rays.resize(rays.size());
+    for (size_t i = 0; i < rays.size(); ++i)
+      impl->sample_rays[i] = Vector2d(rays[i].x, rays[i].y);
+  }
   impl->width = camera.width;
   impl->height = camera.height;
   const int cw = camera.width + 1, ch = camera.height + 1;
@@ -368,19 +430,138 @@ bool ShaftOutline(const tracking::Camera& cam, const tracking::PenSpec& pen,
   return true;
 }
 
-}  // namespace
+// Image region of a planar layer: its projected rectangle (densified for
+// distortion) plus a margin, or the whole image for the infinite board
+// layer. False when the layer misses the image.
+bool LayerRegion(const tracking::Camera& camera, const PlanarLayer& layer,
+                 cv::Rect* region) {
+  const int W = camera.width, H = camera.height;
+  *region = cv::Rect(0, 0, W, H);
+  if (layer.infinite) return true;
+  std::vector<Vector3d> outline = {
+      layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y0, 0),
+      layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y0, 0),
+      layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y1, 0),
+      layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y1, 0)};
+  std::vector<Vector2d> px;
+  if (!ProjectOutline(camera, outline, true, &px)) return true;
+  double minx = 1e9, miny = 1e9, maxx = -1e9, maxy = -1e9;
+  for (const Vector2d& p : px) {
+    minx = std::min(minx, p.x());
+    maxx = std::max(maxx, p.x());
+    miny = std::min(miny, p.y());
+    maxy = std::max(maxy, p.y());
+  }
+  const int x0 = std::max(0, int(std::floor(minx)) - 2);
+  const int y0 = std::max(0, int(std::floor(miny)) - 2);
+  const int x1 = std::min(W, int(std::ceil(maxx)) + 3);
+  const int y1 = std::min(H, int(std::ceil(maxy)) + 3);
+  if (x1 <= x0 || y1 <= y0) return false;
+  *region = cv::Rect(x0, y0, x1 - x0, y1 - y0);
+  return true;
+}
 
-cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
-  const Impl& impl = *impl_;
-  const int W = impl.width, H = impl.height, CW = W + 1;
-  cv::Mat out(H, W, CV_32FC3, cv::Scalar::all(0));
+// A cluttered table: per 4-40 mm patch (three nested grids, hashed) a grey
+// or tinted albedo of 0.08-0.75, over a wood-like grain of +-8%.
+cv::Vec3f BusyTableAlbedo(const Vector2d& p_in_tank) {
+  auto hash = [](int64_t a, int64_t b, uint64_t salt) {
+    uint64_t h =
+        uint64_t(a) * 0x9e3779b97f4a7c15ULL ^
+        (uint64_t(b) + 0x632be59bd9b4e019ULL + salt) * 0xbf58476d1ce4e5b9ULL;
+    h ^= h >> 31;
+    h *= 0x94d049bb133111ebULL;
+    h ^= h >> 29;
+    return double(h >> 11) / double(1ULL << 53);
+  };
+  cv::Vec3f c(0.30f, 0.36f, 0.45f);  // the plain table's brown-grey
+  const double sizes[3] = {0.040, 0.013, 0.004};
+  for (int level = 0; level < 3; ++level) {
+    const double s = sizes[level];
+    const int64_t i = int64_t(std::floor(p_in_tank.x() / s));
+    const int64_t j = int64_t(std::floor(p_in_tank.y() / s));
+    if (hash(i, j, 11 * level) < 0.45) continue;  // keep the coarser patch
+    const double v = 0.08 + 0.67 * hash(i, j, 11 * level + 1);
+    const double tint = hash(i, j, 11 * level + 2);
+    c = cv::Vec3f(float(v * (0.8 + 0.4 * tint)), float(v),
+                  float(v * (1.2 - 0.4 * tint)));
+  }
+  const double grain =
+      1.0 + 0.08 * std::sin(2 * M_PI *
+                            (p_in_tank.y() * 180.0 +
+                             3.0 * std::sin(p_in_tank.x() * 25.0)));
+  return c * float(grain);
+}
 
+// A layer's albedo at one point of its plane (no area integration); false
+// where the layer does not cover the point.
+bool LayerAlbedoAt(const PlanarLayer& layer, const Vector2d& q, bool busy_table,
+                   cv::Vec3f* albedo) {
+  const CellRect& r = layer.rect;
+  const bool inside =
+      q.x() >= r.x0 && q.x() < r.x1 && q.y() >= r.y0 && q.y() < r.y1;
+  if (layer.floor) {
+    if (!inside) return false;
+    *albedo = layer.floor->AlbedoAt(q);
+    return true;
+  }
+  if (!inside) {
+    if (!layer.infinite) return false;
+    *albedo = busy_table ? BusyTableAlbedo(q) : layer.outside;
+    return true;
+  }
+  *albedo = layer.base;
+  if (layer.tag && layer.tag->n > 0) {
+    const TagCells& t = *layer.tag;
+    const int col = int(std::floor((q.x() - t.origin) / t.cell));
+    const int row = int(std::floor((q.y() - t.origin) / t.cell));
+    if (col >= 0 && row >= 0 && col < t.n && row < t.n &&
+        t.black[row * t.n + col])
+      *albedo = kInk;
+  }
+  return true;
+}
+
+// Where the camera rays meet a planar layer's z = 0 plane.
+struct PlaneHits {
+  PlaneHits(const Pose& cam_from_plane, const Pose& cam_from_tank)
+      : R(cam_from_plane.R()),
+        Rt(R.transpose()),
+        t(cam_from_plane.translation),
+        n(R.col(2)),
+        nt(n.dot(t)),
+        tank_from_plane(cam_from_tank.Inverse() * cam_from_plane) {}
+  // The plane point `q` hit by the normalised ray (x, y, 1) at `*depth`
+  // times the ray; false when the plane is behind or parallel.
+  bool Hit(const Vector2d& ray_xy, Vector2d* q, double* depth) const {
+    const Vector3d ray(ray_xy.x(), ray_xy.y(), 1.0);
+    const double denom = n.dot(ray);
+    const double s = std::abs(denom) > 1e-12 ? nt / denom : -1.0;
+    if (!(s > 0)) return false;
+    *q = (Rt * (s * ray - t)).head<2>();
+    *depth = s;
+    return true;
+  }
+  Eigen::Matrix3d R, Rt;
+  Vector3d t, n;
+  double nt;
+  Pose tank_from_plane;
+};
+
+// The draw list of one frame, far to near: the table and sheet, the floor,
+// the board tags, the pen (far part first), then the occluders.
+std::vector<DrawItem> BuildDrawItems(const tracking::Camera& camera,
+                                     const tracking::Rig& rig,
+                                     const FloorPattern& floor,
+                                     const CellRect& sheet,
+                                     const std::vector<TagCells>& tank_tags,
+                                     const std::vector<TagCells>& pen_tags,
+                                     const SceneState& scene) {
   std::vector<DrawItem> items;
   // 1. The table and the printed sheet.
   {
     DrawItem it;
     it.layer.cam_from_plane = scene.cam_from_tank;
-    it.layer.rect = impl.sheet;
+    it.layer.rect = sheet;
     it.layer.infinite = true;
     it.layer.base = kPaper;
     it.layer.outside = kTable;
@@ -388,19 +569,19 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
     items.push_back(it);
   }
   // 1b. The floor pattern inside the tank outline (plain paper adds nothing).
-  if (floor_.kind() != FloorKind::kPlain && !floor_.rect().isEmpty()) {
+  if (floor.kind() != FloorKind::kPlain && !floor.rect().isEmpty()) {
     DrawItem it;
     it.layer.cam_from_plane = scene.cam_from_tank;
-    const Eigen::AlignedBox2d& f = floor_.rect();
+    const Eigen::AlignedBox2d& f = floor.rect();
     it.layer.rect = {f.min().x(), f.min().y(), f.max().x(), f.max().y()};
-    it.layer.floor = &floor_;
+    it.layer.floor = &floor;
     it.layer.board = true;
     items.push_back(it);
   }
   // 2. The board's tags.
-  for (size_t i = 0; i < rig_.tank_tags.size(); ++i) {
-    const tracking::TagPlacement& t = rig_.tank_tags[i];
-    const TagCells& cells = impl.tank_tags[i];
+  for (size_t i = 0; i < rig.tank_tags.size(); ++i) {
+    const tracking::TagPlacement& t = rig.tank_tags[i];
+    const TagCells& cells = tank_tags[i];
     DrawItem it;
     it.layer.cam_from_plane = scene.cam_from_tank * t.object_from_tag;
     const double h = -cells.origin;
@@ -412,8 +593,8 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
   }
   // 3. The pen: shaft polygon and cube faces with their tags, painted far
   // part first.
-  if (scene.tank_from_pen && rig_.pen) {
-    const tracking::PenSpec& pen = *rig_.pen;
+  if (scene.tank_from_pen && rig.pen) {
+    const tracking::PenSpec& pen = *rig.pen;
     const Pose cam_from_pen = scene.cam_from_tank * *scene.tank_from_pen;
     const Eigen::Matrix3d tank_r = scene.cam_from_tank.R();
     const Vector3d light_in_cam =
@@ -425,7 +606,7 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
       const Vector3d tip = pen.tip_in_pen;
       const Vector3d axis = (-tip).normalized();  // tip -> cube
       std::vector<Vector2d> hull;
-      const bool ok = ShaftOutline(camera_, pen, cam_from_pen, &hull);
+      const bool ok = ShaftOutline(camera, pen, cam_from_pen, &hull);
       if (ok) {
         DrawItem it;
         it.kind = DrawItem::Kind::kPolygon;
@@ -471,7 +652,7 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
         // that lies on its face, as a sticker glued slightly off-centre
         // would be: the largest tag-aligned rectangle inside the face, so a
         // perturbed tag never overhangs onto a neighbouring face.
-        const double h = -impl.pen_tags[i].origin;
+        const double h = -pen_tags[i].origin;
         const Pose face_from_tag = pen_from_face.Inverse() * t.object_from_tag;
         const Vector3d x_in_face = face_from_tag.R().col(0);
         const double turn =
@@ -484,7 +665,7 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
                                std::min(h, centre_in_tag.x() + inner),
                                std::min(h, centre_in_tag.y() + inner)};
         tag_item.layer.base = kPaper;
-        tag_item.layer.tag = &impl.pen_tags[i];
+        tag_item.layer.tag = &pen_tags[i];
         tag_item.layer.shade = it.layer.shade;
         tag_item.depth = cube_depth;
         pen_items.push_back(tag_item);
@@ -502,18 +683,41 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
       pts.push_back(o.cam_from_occluder * Vector3d(p.x(), p.y(), 0));
     DrawItem it;
     it.kind = DrawItem::Kind::kPolygon;
-    if (!ProjectOutline(camera_, pts, true, &it.polygon_px)) continue;
+    if (!ProjectOutline(camera, pts, true, &it.polygon_px)) continue;
     it.polygon_bgr = o.bgr;
     items.push_back(it);
   }
 
-  // The pen's cast shadow on the board's layers.
+  return items;
+}
+
+// The pen's cast shadow on the board's layers, when the scene has one.
+std::optional<PenShadow> MakePenShadow(const tracking::Rig& rig,
+                                       const SceneState& scene) {
   std::optional<PenShadow> shadow;
-  if (scene.light_in_tank && scene.tank_from_pen && rig_.pen &&
+  if (scene.light_in_tank && scene.tank_from_pen && rig.pen &&
       !scene.flat_lighting && scene.ambient_share < 1.0 &&
       scene.light_in_tank->z() > 0)
-    shadow.emplace(*rig_.pen, *scene.tank_from_pen, *scene.light_in_tank,
+    shadow.emplace(*rig.pen, *scene.tank_from_pen, *scene.light_in_tank,
                    scene.light_radius_rad);
+  return shadow;
+}
+
+}  // namespace
+
+cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
+  return formation_.formation == Formation::kPointSampled
+             ? RenderPointSampled(scene)
+             : RenderExactArea(scene);
+}
+
+cv::Mat SceneRenderer::RenderExactArea(const SceneState& scene) const {
+  const Impl& impl = *impl_;
+  const int W = impl.width, H = impl.height, CW = W + 1;
+  cv::Mat out(H, W, CV_32FC3, cv::Scalar::all(0));
+  const std::vector<DrawItem> items = BuildDrawItems(
+      camera_, rig_, floor_, impl.sheet, impl.tank_tags, impl.pen_tags, scene);
+  const std::optional<PenShadow> shadow = MakePenShadow(rig_, scene);
   const double direct_share = 1.0 - std::clamp(scene.ambient_share, 0.0, 1.0);
 
   // Paint.
@@ -533,56 +737,20 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
       continue;
     }
     const PlanarLayer& layer = it.layer;
-    // Image region: the projected rectangle (densified for distortion) plus
-    // a margin, or the whole image for the infinite board layer.
-    cv::Rect region(0, 0, W, H);
-    if (!layer.infinite) {
-      std::vector<Vector3d> outline = {
-          layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y0, 0),
-          layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y0, 0),
-          layer.cam_from_plane * Vector3d(layer.rect.x1, layer.rect.y1, 0),
-          layer.cam_from_plane * Vector3d(layer.rect.x0, layer.rect.y1, 0)};
-      std::vector<Vector2d> px;
-      if (ProjectOutline(camera_, outline, true, &px)) {
-        double minx = 1e9, miny = 1e9, maxx = -1e9, maxy = -1e9;
-        for (const Vector2d& p : px) {
-          minx = std::min(minx, p.x());
-          maxx = std::max(maxx, p.x());
-          miny = std::min(miny, p.y());
-          maxy = std::max(maxy, p.y());
-        }
-        const int x0 = std::max(0, int(std::floor(minx)) - 2);
-        const int y0 = std::max(0, int(std::floor(miny)) - 2);
-        const int x1 = std::min(W, int(std::ceil(maxx)) + 3);
-        const int y1 = std::min(H, int(std::ceil(maxy)) + 3);
-        if (x1 <= x0 || y1 <= y0) continue;
-        region = cv::Rect(x0, y0, x1 - x0, y1 - y0);
-      }
-    }
-    const Eigen::Matrix3d R = layer.cam_from_plane.R();
-    const Vector3d t = layer.cam_from_plane.translation;
-    const Vector3d n = R.col(2);
-    const double nt = n.dot(t);
-    const Eigen::Matrix3d Rt = R.transpose();
-    const Pose tank_from_plane =
-        scene.cam_from_tank.Inverse() * layer.cam_from_plane;
+    cv::Rect region;
+    if (!LayerRegion(camera_, layer, &region)) continue;
+    const PlaneHits plane(layer.cam_from_plane, scene.cam_from_tank);
+    const Pose& tank_from_plane = plane.tank_from_plane;
     // Plane (x, y) -> normalised image: [r1 r2 t].
     Eigen::Matrix3d homography;
-    homography << R.col(0), R.col(1), t;
+    homography << plane.R.col(0), plane.R.col(1), plane.t;
     cv::parallel_for_(
         cv::Range(region.y, region.br().y + 1), [&](const cv::Range& rows) {
           for (int v = rows.start; v < rows.end; ++v) {
             for (int u = region.x; u <= region.br().x; ++u) {
               const size_t k = size_t(v) * CW + u;
-              const Vector3d ray(impl.corner_rays[k].x(),
-                                 impl.corner_rays[k].y(), 1.0);
-              const double denom = n.dot(ray);
-              const double s = std::abs(denom) > 1e-12 ? nt / denom : -1.0;
-              valid[k] = s > 0;
-              if (s > 0) {
-                const Vector3d q = Rt * (s * ray - t);
-                plane_pts[k] = q.head<2>();
-              }
+              double depth;
+              valid[k] = plane.Hit(impl.corner_rays[k], &plane_pts[k], &depth);
             }
           }
         });
@@ -635,6 +803,79 @@ cv::Mat SceneRenderer::RenderLinear(const SceneState& scene) const {
           }
         });
   }
+  return out;
+}
+
+cv::Mat SceneRenderer::RenderPointSampled(const SceneState& scene) const {
+  const Impl& impl = *impl_;
+  const int W = impl.width, H = impl.height, N = impl.samples;
+  const int SW = W * N, SH = H * N;
+  cv::Mat hi(SH, SW, CV_32FC3, cv::Scalar::all(0));
+  const std::vector<DrawItem> items = BuildDrawItems(
+      camera_, rig_, floor_, impl.sheet, impl.tank_tags, impl.pen_tags, scene);
+  const std::optional<PenShadow> shadow = MakePenShadow(rig_, scene);
+  const double direct_share = 1.0 - std::clamp(scene.ambient_share, 0.0, 1.0);
+  const bool busy = formation_.busy_table;
+  for (const DrawItem& it : items) {
+    if (it.kind == DrawItem::Kind::kPolygon) {
+      // Sample (i, j) sits at pixel ((i + 0.5) / N - 0.5, ...): in sample
+      // units a pixel point x maps to (x + 0.5) N - 0.5, and fillPoly fills
+      // the samples whose centres are inside (4 fractional bits).
+      constexpr int kShift = 4;
+      std::vector<cv::Point> pts;
+      for (const Vector2d& p : it.polygon_px)
+        pts.emplace_back(
+            int(std::lround(((p.x() + 0.5) * N - 0.5) * (1 << kShift))),
+            int(std::lround(((p.y() + 0.5) * N - 0.5) * (1 << kShift))));
+      if (pts.size() < 3) continue;
+      cv::Mat mask(SH, SW, CV_8U, cv::Scalar(0));
+      cv::fillPoly(mask, std::vector<std::vector<cv::Point>>{pts},
+                   cv::Scalar(255), cv::LINE_8, kShift);
+      hi.setTo(
+          cv::Scalar(it.polygon_bgr[0], it.polygon_bgr[1], it.polygon_bgr[2]),
+          mask);
+      continue;
+    }
+    const PlanarLayer& layer = it.layer;
+    cv::Rect region;
+    if (!LayerRegion(camera_, layer, &region)) continue;
+    const PlaneHits plane(layer.cam_from_plane, scene.cam_from_tank);
+    const Pose& tank_from_plane = plane.tank_from_plane;
+    // A sample's footprint on the plane, for the shadow's penumbra: the
+    // pixel's angular size over N at the plane's distance.
+    const double sample_rad = 1.0 / (N * std::max(camera_.fx, camera_.fy));
+    cv::parallel_for_(
+        cv::Range(region.y * N, region.br().y * N), [&](const cv::Range& rows) {
+          for (int j = rows.start; j < rows.end; ++j) {
+            cv::Vec3f* row = hi.ptr<cv::Vec3f>(j);
+            for (int i = region.x * N; i < region.br().x * N; ++i) {
+              const Vector2d& ray = impl.sample_rays[size_t(j) * SW + i];
+              Vector2d q;
+              double s;
+              if (!plane.Hit(ray, &q, &s)) continue;
+              cv::Vec3f albedo;
+              if (!LayerAlbedoAt(layer, q, busy, &albedo)) continue;
+              float shade = scene.flat_lighting ? 1.0f : layer.shade;
+              if (layer.board && !scene.flat_lighting) {
+                const Vector3d in_tank =
+                    tank_from_plane * Vector3d(q.x(), q.y(), 0);
+                shade = BoardShade(in_tank.x(), in_tank.y());
+                if (shadow) {
+                  const double hidden = shadow->Hidden(
+                      in_tank.head<2>(),
+                      std::max(1e-6, s * std::sqrt(1 + ray.squaredNorm()) *
+                                         sample_rad));
+                  shade *= static_cast<float>(1.0 - direct_share * hidden);
+                }
+              }
+              row[i] = albedo * shade;
+            }
+          }
+        });
+  }
+  if (N == 1) return hi;
+  cv::Mat out;
+  cv::resize(hi, out, cv::Size(W, H), 0, 0, cv::INTER_AREA);  // box mean
   return out;
 }
 
@@ -782,6 +1023,27 @@ cv::Mat MotionBlurKernel(double length_px, double angle_rad) {
   return k / cv::sum(k)[0];
 }
 
+// A uniform disc of radius `radius_px`, each kernel pixel weighted by the
+// disc's area in it (16 x 16 sub-samples), normalised to sum 1.
+cv::Mat DiscKernel(double radius_px) {
+  const int half = int(std::ceil(radius_px));
+  const int size = 2 * half + 1;
+  cv::Mat k(size, size, CV_32F, cv::Scalar(0));
+  constexpr int kSub = 16;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      int in = 0;
+      for (int b = 0; b < kSub; ++b)
+        for (int a = 0; a < kSub; ++a) {
+          const double dx = x - half - 0.5 + (a + 0.5) / kSub;
+          const double dy = y - half - 0.5 + (b + 0.5) / kSub;
+          in += dx * dx + dy * dy <= radius_px * radius_px;
+        }
+      k.at<float>(y, x) = float(in);
+    }
+  return k / cv::sum(k)[0];
+}
+
 }  // namespace
 
 RenderedFrame SceneRenderer::Render(const SceneState& scene,
@@ -789,9 +1051,14 @@ RenderedFrame SceneRenderer::Render(const SceneState& scene,
                                     uint64_t seed) const {
   cv::Mat img = RenderLinear(scene);
   if (imaging.exposure != 1.0) img *= imaging.exposure;
-  if (imaging.defocus_sigma_px > 0)
-    cv::GaussianBlur(img, img, cv::Size(0, 0), imaging.defocus_sigma_px, 0,
-                     cv::BORDER_REPLICATE);
+  if (imaging.defocus_sigma_px > 0) {
+    if (imaging.defocus_kernel == DefocusKernel::kDisc)
+      cv::filter2D(img, img, -1, DiscKernel(2 * imaging.defocus_sigma_px),
+                   cv::Point(-1, -1), 0, cv::BORDER_REPLICATE);
+    else
+      cv::GaussianBlur(img, img, cv::Size(0, 0), imaging.defocus_sigma_px, 0,
+                       cv::BORDER_REPLICATE);
+  }
   if (imaging.motion_blur_px > 0.05)
     cv::filter2D(
         img, img, -1,

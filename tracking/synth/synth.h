@@ -62,12 +62,22 @@ struct SceneState {
   double light_radius_rad = 0.0087;
 };
 
-// Imaging applied after the exact geometric render, in this order:
-// exposure gain, defocus (Gaussian), linear motion blur, shot + read noise,
+// The defocus point-spread function's shape.
+enum class DefocusKernel {
+  kGaussian,  // sigma = defocus_sigma_px
+  // A uniform disc (a thin lens' geometric blur) of radius
+  // 2 * defocus_sigma_px, which has the same per-axis standard deviation;
+  // its edge is anti-aliased by the disc's area in each kernel pixel.
+  kDisc,
+};
+
+// Imaging applied after the geometric render, in this order:
+// exposure gain, defocus, linear motion blur, shot + read noise,
 // the sRGB transfer (when `srgb`), 8-bit quantisation, JPEG round trip.
 struct ImagingOptions {
   double exposure = 1.0;          // multiplies the scene radiance
-  double defocus_sigma_px = 0.0;  // Gaussian PSF sigma, pixels
+  double defocus_sigma_px = 0.0;  // PSF standard deviation per axis, pixels
+  DefocusKernel defocus_kernel = DefocusKernel::kGaussian;
   double motion_blur_px = 0.0;    // length of the linear blur, pixels
   double motion_angle_rad = 0.0;  // direction of the blur
   double read_noise_dn = 0.0;     // Gaussian sigma, 8-bit digital numbers
@@ -85,15 +95,49 @@ struct RenderedFrame {
   std::vector<int> pen_tags;
 };
 
+// How the geometric render forms a pixel's value from the scene.
+enum class Formation {
+  // Each pixel's pre-image on every layer clipped exactly against the tag
+  // cells and the floor (exact area coverage; see the README).
+  kExactArea,
+  // A second, independent image formation: one ray per point of a regular
+  // N x N grid inside each pixel (its centres at ((i + 0.5) / N - 0.5) px
+  // from the pixel centre), undistorted by OpenCV's cv::undistortPoints, the
+  // colour looked up at the ray's hit point (no area integration), polygons
+  // filled by point sampling (cv::fillPoly), then the N x N samples
+  // averaged (a box filter). Edges are staircases of 1/N^2 steps, not the
+  // exact ramp.
+  kPointSampled,
+};
+
+// Parses and names "exact" / "supersampled".
+bool ParseFormation(const std::string& name, Formation* formation);
+const char* FormationName(Formation formation);
+
+struct FormationOptions {
+  Formation formation = Formation::kExactArea;
+  int samples_per_axis = 3;  // kPointSampled: N, 1..8
+  // A cluttered table around the printed sheet (random dark and bright
+  // patches of 4-40 mm and a wood-like grain) instead of the plain one.
+  // kPointSampled only (the exact formation integrates piecewise-constant
+  // rectangles and draws the plain table).
+  bool busy_table = false;
+
+  bool IsValid(std::string* error) const;
+};
+
 // Renders scenes for one camera and rig. Thread-compatible.
 class SceneRenderer {
  public:
-  // `floor` is drawn inside the tank outline with exact area coverage (the
-  // default, plain paper, draws nothing there).
+  // `floor` is drawn inside the tank outline (the default, plain paper, draws
+  // nothing there). CHECKs formation.IsValid().
   SceneRenderer(const tracking::Camera& camera, const tracking::Rig& rig,
-                FloorPattern floor = FloorPattern());
-  // Exact render (no imaging effects), linear BGR in [0, 1], CV_32FC3.
+                FloorPattern floor = FloorPattern(),
+                FormationOptions formation = FormationOptions());
+  // Geometric render (no imaging effects) by the renderer's formation,
+  // linear BGR in [0, 1], CV_32FC3.
   cv::Mat RenderLinear(const SceneState& scene) const;
+  const FormationOptions& formation() const { return formation_; }
   // Full frame: exact render, imaging effects with noise drawn from `seed`.
   RenderedFrame Render(const SceneState& scene, const ImagingOptions& imaging,
                        uint64_t seed) const;
@@ -110,9 +154,12 @@ class SceneRenderer {
 
  private:
   struct Impl;
+  cv::Mat RenderExactArea(const SceneState& scene) const;
+  cv::Mat RenderPointSampled(const SceneState& scene) const;
   tracking::Camera camera_;
   tracking::Rig rig_;
   FloorPattern floor_;
+  FormationOptions formation_;
   std::shared_ptr<const Impl> impl_;
 };
 

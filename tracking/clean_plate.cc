@@ -660,13 +660,17 @@ void CleanPlate::Learn(const cv::Mat& seen, const cv::Rect& roi) {
         nb[i] = 1;
       }
       if (a_changed) {
-        const cv::Vec4b v(cv::saturate_cast<std::uint8_t>(a[i][0]),
-                          cv::saturate_cast<std::uint8_t>(a[i][1]),
-                          cv::saturate_cast<std::uint8_t>(a[i][2]), 255);
-        if (v != out[i]) {
-          out[i] = v;
-          changed = true;
-        }
+        // Compared and stored as one word: whether the rounded colour moved
+        // is noise, a branch on it mispredicts.
+        const std::uint32_t v =
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][0])) |
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][1])) << 8 |
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][2])) << 16 |
+            0xff000000u;
+        std::uint32_t old;
+        std::memcpy(&old, out[i].val, 4);
+        changed |= v != old;
+        std::memcpy(out[i].val, &v, 4);
       }
     }
   }

@@ -728,35 +728,44 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   // the part away from the mask, later ones take only pixels the model
   // already accepts.
   const float t_high = static_cast<float>(options_.high_threshold);
+  float limit[3];
+  for (int c = 0; c < 3; ++c)
+    limit[c] = std::max(t_high, 4 * object_spread_[c]);
   auto accepted = [&](const cv::Vec3b& f) {
     for (int c = 0; c < 3; ++c)
-      if (std::abs(f[c] - object_colour_[c]) >
-          std::max(t_high, 4 * object_spread_[c]))
-        return false;
+      if (std::abs(f[c] - object_colour_[c]) > limit[c]) return false;
     return true;
   };
-  std::vector<float>* samples = object_samples_;  // kept between frames
-  for (int c = 0; c < 3; ++c) samples[c].clear();
+  // The samples are 8-bit levels: kept as a histogram per channel, whose
+  // order statistics are those of the samples themselves.
+  int hist[3][256] = {};
+  int n = 0;
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
     const std::uint8_t* in = inner.ptr(y);
     const std::uint8_t* nm = near_mask.ptr(y);
     for (int x = 0; x < frame.cols; ++x)
-      if (in[x] && !nm[x] && (object_frames_ == 0 || accepted(f[x])))
-        for (int c = 0; c < 3; ++c) samples[c].push_back(f[x][c]);
+      if (in[x] && !nm[x] && (object_frames_ == 0 || accepted(f[x]))) {
+        for (int c = 0; c < 3; ++c) ++hist[c][f[x][c]];
+        ++n;
+      }
   }
+  // The sample of rank n / 2 (0-based) in a histogram.
+  auto rank_half = [n](const int* h) {
+    int seen = 0, v = 0;
+    while (v < 255 && (seen += h[v]) <= n / 2) ++v;
+    return v;
+  };
   // Learn: median and spread (1.4826 median absolute deviations, a
   // standard deviation for Gaussian noise) of this frame, blended in.
-  if (samples[0].size() >= 30) {
+  if (n >= 30) {
     cv::Vec3f med, spread;
     for (int c = 0; c < 3; ++c) {
-      std::vector<float>& v = samples[c];
-      auto mid = v.begin() + v.size() / 2;
-      std::nth_element(v.begin(), mid, v.end());
-      med[c] = *mid;
-      for (float& s : v) s = std::abs(s - med[c]);
-      std::nth_element(v.begin(), mid, v.end());
-      spread[c] = 1.4826f * *mid;
+      const int m = rank_half(hist[c]);
+      int dev[256] = {};
+      for (int v = 0; v < 256; ++v) dev[std::abs(v - m)] += hist[c][v];
+      med[c] = static_cast<float>(m);
+      spread[c] = 1.4826f * static_cast<float>(rank_half(dev));
     }
     const float w = object_frames_ == 0 ? 1.0f : 0.2f;
     object_colour_ += w * (med - object_colour_);
@@ -764,6 +773,8 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
     ++object_frames_;
   }
   if (object_frames_ == 0) return;
+  for (int c = 0; c < 3; ++c)  // the model as just learned
+    limit[c] = std::max(t_high, 4 * object_spread_[c]);
   // Classify: the object's pixels far from its colour are in front of it.
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
@@ -773,8 +784,7 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
       if (!ob[x] || m[x]) continue;
       float d = 0;
       for (int c = 0; c < 3; ++c)
-        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) -
-                            std::max(t_high, 4 * object_spread_[c]));
+        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) - limit[c]);
       if (d > 0) m[x] = 255;
     }
   }

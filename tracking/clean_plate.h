@@ -55,7 +55,6 @@
 #include <cstdint>
 #include <opencv2/core.hpp>
 #include <string>
-#include <vector>
 
 #include "tracking/camera.h"
 #include "tracking/pose.h"
@@ -219,7 +218,6 @@ class CleanPlate {
   cv::Vec3f object_colour_{0, 0, 0}, object_spread_{0, 0, 0};
   int object_frames_ = 0;
   cv::Mat object_inner_, object_near_mask_;  // ClassifyObject's buffers
-  std::vector<float> object_samples_[3];
   void ClassifyObject(const cv::Mat& frame, const cv::Mat& object_in_window,
                       cv::Mat* mask_in_window);
   double gain_ = 1.0;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <opencv2/imgproc.hpp>
 #include <utility>
 #include <vector>
@@ -94,6 +95,7 @@ void CleanPlate::Reset() {
   challenger_ = cv::Mat::zeros(plate_h_, plate_w_, CV_32FC3);
   background_n_ = cv::Mat::zeros(plate_h_, plate_w_, CV_16U);
   challenger_n_ = cv::Mat::zeros(plate_h_, plate_w_, CV_16U);
+  known_texels_ = 0;
   plate_bgra_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8UC4);
   foreground_.setTo(0);
   plate_foreground_ = cv::Mat::zeros(plate_h_, plate_w_, CV_8U);
@@ -256,7 +258,7 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   // view, texels are judged but not learned: alpha 128.
   const cv::Mat k5 = cv::getStructuringElement(cv::MORPH_RECT, {5, 5});
   {
-    cv::Mat full;
+    cv::Mat& full = full_;
     cv::extractChannel(seen, full, 3);
     cv::threshold(full, full, 254, 255, cv::THRESH_BINARY);
     cv::erode(full, grown_, k5, {-1, -1}, 1, cv::BORDER_REPLICATE);
@@ -304,8 +306,10 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
         const int k = 2 * options_.grow_px + 1;
         cv::dilate(out, out, cv::getStructuringElement(cv::MORPH_RECT, {k, k}));
       }
-      if (!exclude_in_window.empty()) out.setTo(0, exclude_in_window(sub));
-      summary_.foreground_px = cv::countNonZero(out);
+      if (!exclude_in_window.empty())
+        out.setTo(0, exclude_in_window(sub));
+      else  // with known objects, counted below over the whole window
+        summary_.foreground_px = cv::countNonZero(out);
     }
   }
 
@@ -334,7 +338,8 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
     if (box.area() > 0 && sub.area() > 0) {
       cv::Mat out = foreground_(window)(sub);
       const cv::Mat ex = exclude_in_window(sub);
-      cv::Mat both = out | ex;
+      cv::Mat& both = both_;
+      cv::bitwise_or(out, ex, both);
       cv::morphologyEx(both, both, cv::MORPH_CLOSE,
                        cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
       both.setTo(0, ex);
@@ -373,6 +378,10 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
   std::vector<float> ratios, prior_ratios[3];
   std::vector<std::pair<cv::Vec3b, cv::Vec3f>> design_samples;
   const double s = options_.texel_m;
+  // Board points (x, y, 0) to the camera: the rotation's first two columns.
+  const Eigen::Matrix3d r = cam_from_tank.R();
+  const Eigen::Vector3d r_x = r.col(0), r_y = r.col(1);
+  const bool distorted = camera_.HasDistortion();
   for (int j = 3; j < plate_h_; j += 7) {
     const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(j);
     const cv::Vec4b* q = prior_.empty() ? nullptr : prior_.ptr<cv::Vec4b>(j);
@@ -383,13 +392,13 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
       const bool prior_ok = q && q[i][3] == 255 && q[i][0] > 150 &&
                             q[i][1] > 150 && q[i][2] > 150;
       if (!plate_ok && !prior_ok) continue;
-      const Eigen::Vector3d c =
-          cam_from_tank * Eigen::Vector3d(origin_m_.x + s * (i + 0.5),
-                                          origin_m_.y + s * (j + 0.5), 0.0);
+      const Eigen::Vector3d c = r_x * (origin_m_.x + s * (i + 0.5)) +
+                                r_y * (origin_m_.y + s * (j + 0.5)) +
+                                cam_from_tank.translation;
       if (c.z() < 1e-3) continue;
       const Eigen::Vector2d ideal(camera_.fx * c.x() / c.z() + camera_.cx,
                                   camera_.fy * c.y() / c.z() + camera_.cy);
-      const Eigen::Vector2d raw = camera_.Project(c);
+      const Eigen::Vector2d raw = distorted ? camera_.Project(c) : ideal;
       const int u = static_cast<int>(std::lround(raw.x()));
       const int v = static_cast<int>(std::lround(raw.y()));
       const int ui = static_cast<int>(std::lround(ideal.x()));
@@ -496,17 +505,18 @@ void CleanPlate::Classify(const cv::Mat& seen, const cv::Rect& roi,
     const std::uint8_t* last = plate_foreground_.ptr(row) + roi.x;
     std::uint8_t* wk = weak.ptr(j);
     std::uint8_t* st = strong.ptr(j);
+    std::memset(wk, 0, static_cast<size_t>(w));
+    std::memset(st, 0, static_cast<size_t>(w));
     for (int i = 0; i < w; ++i) {
-      wk[i] = st[i] = 0;
       // Seen this frame, not on a known object.
       if (o[i][3] < 100) continue;
-      float lo[3], hi[3], mid[3], ratio = min_ratio;
-      if (pl[i][3] == 255) {
+      float lo[3], hi[3], ratio = min_ratio;
+      const bool learned = pl[i][3] == 255;
+      if (learned) {
         // The learned plate, known over the whole neighbourhood.
         for (int c = 0; c < 3; ++c) {
           lo[c] = g * pl[i][c];
           hi[c] = g * ph[i][c];
-          mid[c] = g * p[i][c];
         }
       } else if (q && ql[i][3] == 255) {
         // Not learned yet: the printed design under this frame's light;
@@ -515,7 +525,6 @@ void CleanPlate::Classify(const cv::Mat& seen, const cv::Rect& roi,
           const float pg = prior_gain_[c];
           lo[c] = ill_lo * pg * ql[i][c];
           hi[c] = ill_hi * pg * qh[i][c];
-          mid[c] = pg * q[i][c];
         }
         ratio *= ill_lo;
       } else {
@@ -542,6 +551,9 @@ void CleanPlate::Classify(const cv::Mat& seen, const cv::Rect& roi,
       const float d = std::max(r0, std::max(r1, r2));
       if (d <= t_low) continue;
       // A shadow: darker by a common factor, chromaticity kept.
+      float mid[3];
+      for (int c = 0; c < 3; ++c)
+        mid[c] = learned ? g * p[i][c] : prior_gain_[c] * q[i][c];
       const float qq = mid[0] * mid[0] + mid[1] * mid[1] + mid[2] * mid[2];
       if (qq > 0) {
         const float a = (f[0] * mid[0] + f[1] * mid[1] + f[2] * mid[2]) / qq;
@@ -614,14 +626,20 @@ void CleanPlate::Learn(const cv::Mat& seen, const cv::Rect& roi) {
                PriorAllows(Bgr(o8[i]), Bgr(design[i]));
       };
       const bool learnable = o8[i][3] >= 250;
+      // The plate shows the background colour: republished when it moves
+      // (texels without one stay transparent).
+      bool a_changed = false;
       if (na[i] == 0) {
         if (learnable && design_ok()) {
           a[i] = o;
           na[i] = 1;
           ++learned;
+          ++known_texels_;
+          a_changed = true;
         }
       } else if (MaxAbs3(o, a[i]) <= tol) {
         if (learnable) {
+          a_changed = true;
           ++learned;
           a[i] += rate * (o - a[i]);
           na[i] = static_cast<std::uint16_t>(std::min<int>(cap, na[i] + 1));
@@ -633,6 +651,7 @@ void CleanPlate::Learn(const cv::Mat& seen, const cv::Rect& roi) {
             std::min<int>(std::max(cap, takeover) + 1, nb[i] + 1));
         if (nb[i] > na[i] && nb[i] >= takeover && design_ok()) {
           std::swap(a[i], b[i]);
+          a_changed = true;
           na[i] = nb[i];
           nb[i] = 0;
         }
@@ -640,21 +659,27 @@ void CleanPlate::Learn(const cv::Mat& seen, const cv::Rect& roi) {
         b[i] = o;
         nb[i] = 1;
       }
-      if (na[i] > 0) {
-        const cv::Vec4b v(cv::saturate_cast<std::uint8_t>(a[i][0]),
-                          cv::saturate_cast<std::uint8_t>(a[i][1]),
-                          cv::saturate_cast<std::uint8_t>(a[i][2]), 255);
-        if (v != out[i]) {
-          out[i] = v;
-          changed = true;
-        }
+      if (a_changed) {
+        // Compared and stored as one word: whether the rounded colour moved
+        // is noise, a branch on it mispredicts.
+        const std::uint32_t v =
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][0])) |
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][1])) << 8 |
+            std::uint32_t(cv::saturate_cast<std::uint8_t>(a[i][2])) << 16 |
+            0xff000000u;
+        std::uint32_t old;
+        std::memcpy(&old, out[i].val, 4);
+        changed |= v != old;
+        std::memcpy(out[i].val, &v, 4);
       }
     }
   }
   if (changed) ++plate_counter_;
   summary_.plate_changed = changed;
   summary_.learned_texels = learned;
-  summary_.known_texels = cv::countNonZero(background_n_);
+  // A texel's evidence never falls back to zero (only Reset clears it), so
+  // the known texels are counted as they become known.
+  summary_.known_texels = known_texels_;
 }
 
 cv::Rect TankWindow(const Camera& camera, const Pose& cam_from_tank,
@@ -692,9 +717,10 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   // The object's pixels marked for learning (255), away from the mask (3 px:
   // an occluder's blurred edge) and 2 px inside the object's own edge (the
   // board's blur).
-  cv::Mat inner, near_mask;
-  cv::erode(object == 255, inner,
-            cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
+  cv::Mat& inner = object_inner_;
+  cv::Mat& near_mask = object_near_mask_;
+  cv::compare(object, 255, inner, cv::CMP_EQ);
+  cv::erode(inner, inner, cv::getStructuringElement(cv::MORPH_RECT, {5, 5}));
   cv::dilate(*mask, near_mask,
              cv::getStructuringElement(cv::MORPH_RECT, {7, 7}));
   // An occluder may cover the learning part (a hand over the shaft, which
@@ -702,34 +728,44 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   // the part away from the mask, later ones take only pixels the model
   // already accepts.
   const float t_high = static_cast<float>(options_.high_threshold);
+  float limit[3];
+  for (int c = 0; c < 3; ++c)
+    limit[c] = std::max(t_high, 4 * object_spread_[c]);
   auto accepted = [&](const cv::Vec3b& f) {
     for (int c = 0; c < 3; ++c)
-      if (std::abs(f[c] - object_colour_[c]) >
-          std::max(t_high, 4 * object_spread_[c]))
-        return false;
+      if (std::abs(f[c] - object_colour_[c]) > limit[c]) return false;
     return true;
   };
-  std::vector<float> samples[3];
+  // The samples are 8-bit levels: kept as a histogram per channel, whose
+  // order statistics are those of the samples themselves.
+  int hist[3][256] = {};
+  int n = 0;
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
     const std::uint8_t* in = inner.ptr(y);
     const std::uint8_t* nm = near_mask.ptr(y);
     for (int x = 0; x < frame.cols; ++x)
-      if (in[x] && !nm[x] && (object_frames_ == 0 || accepted(f[x])))
-        for (int c = 0; c < 3; ++c) samples[c].push_back(f[x][c]);
+      if (in[x] && !nm[x] && (object_frames_ == 0 || accepted(f[x]))) {
+        for (int c = 0; c < 3; ++c) ++hist[c][f[x][c]];
+        ++n;
+      }
   }
+  // The sample of rank n / 2 (0-based) in a histogram.
+  auto rank_half = [n](const int* h) {
+    int seen = 0, v = 0;
+    while (v < 255 && (seen += h[v]) <= n / 2) ++v;
+    return v;
+  };
   // Learn: median and spread (1.4826 median absolute deviations, a
   // standard deviation for Gaussian noise) of this frame, blended in.
-  if (samples[0].size() >= 30) {
+  if (n >= 30) {
     cv::Vec3f med, spread;
     for (int c = 0; c < 3; ++c) {
-      std::vector<float>& v = samples[c];
-      auto mid = v.begin() + v.size() / 2;
-      std::nth_element(v.begin(), mid, v.end());
-      med[c] = *mid;
-      for (float& s : v) s = std::abs(s - med[c]);
-      std::nth_element(v.begin(), mid, v.end());
-      spread[c] = 1.4826f * *mid;
+      const int m = rank_half(hist[c]);
+      int dev[256] = {};
+      for (int v = 0; v < 256; ++v) dev[std::abs(v - m)] += hist[c][v];
+      med[c] = static_cast<float>(m);
+      spread[c] = 1.4826f * static_cast<float>(rank_half(dev));
     }
     const float w = object_frames_ == 0 ? 1.0f : 0.2f;
     object_colour_ += w * (med - object_colour_);
@@ -737,6 +773,8 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
     ++object_frames_;
   }
   if (object_frames_ == 0) return;
+  for (int c = 0; c < 3; ++c)  // the model as just learned
+    limit[c] = std::max(t_high, 4 * object_spread_[c]);
   // Classify: the object's pixels far from its colour are in front of it.
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
@@ -746,8 +784,7 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
       if (!ob[x] || m[x]) continue;
       float d = 0;
       for (int c = 0; c < 3; ++c)
-        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) -
-                            std::max(t_high, 4 * object_spread_[c]));
+        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) - limit[c]);
       if (d > 0) m[x] = 255;
     }
   }

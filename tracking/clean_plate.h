@@ -196,6 +196,7 @@ class CleanPlate {
   // levels), their evidence in frames.
   cv::Mat background_, challenger_;      // CV_32FC3
   cv::Mat background_n_, challenger_n_;  // CV_16U
+  int known_texels_ = 0;                 // nonzero in background_n_
   cv::Mat plate_bgra_;
   // The design (levels) and its 3x3 darkest and brightest, CV_8UC4, alpha
   // 255 where valid.
@@ -207,8 +208,8 @@ class CleanPlate {
   cv::Mat undistort_x_, undistort_y_;
   cv::Mat foreground_;
   // Per-frame buffers, kept so that frames do not reallocate them.
-  cv::Mat frame_bgra_, grown_, seen_, mask_, in_window_, near_fg_;
-  cv::Mat weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
+  cv::Mat frame_bgra_, full_, grown_, seen_, mask_, in_window_, near_fg_;
+  cv::Mat both_, weak_, strong_, labels_, stats_, centroids_, plo_, phi_;
   cv::Mat plate_foreground_;  // CV_8U, plate-sized: the last mask on the plate
   cv::Rect last_roi_;         // where plate_foreground_ may be nonzero
   cv::Rect window_;
@@ -216,6 +217,7 @@ class CleanPlate {
   // `object_frames_` > 0.
   cv::Vec3f object_colour_{0, 0, 0}, object_spread_{0, 0, 0};
   int object_frames_ = 0;
+  cv::Mat object_inner_, object_near_mask_;  // ClassifyObject's buffers
   void ClassifyObject(const cv::Mat& frame, const cv::Mat& object_in_window,
                       cv::Mat* mask_in_window);
   double gain_ = 1.0;

@@ -197,6 +197,35 @@ TEST(CleanPlateTest, ShadowsAndExposureDriftAreNotForeground) {
   EXPECT_LE(plate.summary().foreground_px, patch.area() * 11 / 10);
 }
 
+// The known texels are counted as they become known: the count must stay
+// the plate's opaque texels (alpha 255), through learning and a Reset.
+TEST(CleanPlateTest, KnownTexelsAreThePlatesOpaqueTexels) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  const synth::SceneRenderer renderer(camera, rig);
+  const Pose cam_from_tank = BoardView();
+  CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
+                   rig.tank.wall_height_m);
+  auto opaque = [&]() {
+    cv::Mat alpha;
+    cv::extractChannel(plate.plate(), alpha, 3);
+    return cv::countNonZero(alpha == 255);
+  };
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int i = 0; i < 4; ++i) {
+      plate.Process(BoardFrame(renderer, cam_from_tank, 1.0 - 0.05 * i, i + 1),
+                    cam_from_tank, cv::Mat());
+      EXPECT_GT(plate.summary().known_texels, 10000);
+      EXPECT_EQ(plate.summary().known_texels, opaque()) << "frame " << i;
+    }
+    plate.Reset();
+    EXPECT_EQ(opaque(), 0);
+  }
+  plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, 50), cam_from_tank,
+                cv::Mat());
+  EXPECT_EQ(plate.summary().known_texels, opaque());
+}
+
 TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {
   const Camera camera = test_data::DefaultCamera();
   const Rig rig = test_data::DefaultRig();

@@ -57,10 +57,14 @@ TEST(StageTableTest, AppendCsvWritesHeaderOnceAndTwoRowsPerLabel) {
   EXPECT_EQ(
       text.str(),
       "label,stat,cap,det,pose,occ,drw,sim,caustics,shadow,total,lat,frames\n"
-      "active,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,1\n"
-      "active,p95,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,1\n"
-      "idle,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,1\n"
-      "idle,p95,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,1\n");
+      "active,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0."
+      "000,1\n"
+      "active,p95,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,"
+      "1\n"
+      "idle,median,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,"
+      "1\n"
+      "idle,p95,1.000,2.000,0.000,0.000,0.000,0.000,0.000,0.000,5.000,0.000,"
+      "1\n");
   std::remove(path.c_str());
   EXPECT_FALSE(table.AppendCsv("/nonexistent/dir/t.csv", "x", true, &error));
   EXPECT_THAT(error, HasSubstr("/nonexistent/dir/t.csv"));

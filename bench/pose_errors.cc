@@ -13,17 +13,8 @@ namespace {
 using tracking::Pose;
 constexpr double kDeg = M_PI / 180.0;
 
-// The error table's percentiles: rounded rank, NaN for an empty sample (a
-// quantity never measured prints as nan).
-double Pct(const std::vector<double>& v, double p) {
-  PercentileOptions options;
-  options.rank = PercentileOptions::Rank::kRounded;
-  options.empty_value = NAN;
-  return Percentile(v, p, options);
-}
-
 ErrorSpread Spread(const std::vector<double>& v) {
-  return {Pct(v, 50), Pct(v, 95)};
+  return {ErrorPercentile(v, 50), ErrorPercentile(v, 95)};
 }
 
 bool SamePose(const PoseErrorOptions& o, const Pose& a, const Pose& b) {
@@ -245,6 +236,13 @@ PoseErrorSummary PoseErrorAccumulator::Summarize() const {
   s.pen_jitter_deg.std /= kDeg;
   s.tip_jitter_mm.std *= 1000;
   return s;
+}
+
+double ErrorPercentile(const std::vector<double>& v, double p) {
+  PercentileOptions options;
+  options.rank = PercentileOptions::Rank::kRounded;
+  options.empty_value = NAN;
+  return Percentile(v, p, options);
 }
 
 std::string ErrorTableHeaderCells() {

@@ -130,6 +130,10 @@ class PoseErrorAccumulator {
   std::vector<double> tank_rot_deg_, tank_mm_, pen_rot_deg_, pen_mm_, tip_mm_;
 };
 
+// The error table's percentile `p` of `v`: rounded rank, NaN for an empty
+// sample (a quantity never measured prints as nan).
+double ErrorPercentile(const std::vector<double>& v, double p);
+
 // The error table's columns (markdown), after the caller's own leading
 // columns: the header cells, the separator cells and one row's cells, each
 // starting with "| " and ending without the closing '|'.

@@ -20,12 +20,9 @@ using tracking::Pose;
 
 constexpr double kDeg = M_PI / 180.0;
 
-// Run-time percentiles as the error table's: rounded rank, NaN when empty.
+// Run-time percentiles as the error table's.
 double Pct(const std::vector<double>& v, double p) {
-  PercentileOptions options;
-  options.rank = PercentileOptions::Rank::kRounded;
-  options.empty_value = NAN;
-  return Percentile(v, p, options);
+  return ErrorPercentile(v, p);
 }
 
 // Root mean square of per-segment deviations (NaN when none).

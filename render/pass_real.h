@@ -33,8 +33,6 @@ struct RealObjectsState {
   bool plate = false;                    // a plate is uploaded
   glm::vec4 plate_map{0.0f};             // uv = xy * map.xy + map.zw
   float plate_gain = 1.0f;               // linear-light gain of the plate
-  // True when the water must consider real objects at all.
-  bool any() const { return pen || mask; }
 };
 
 class RealObjectsPass {

@@ -33,7 +33,6 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   glUniform1i(p.Uniform("u_plate"), kUnitPlate);
   glUniform1i(p.Uniform("u_mirror"), kUnitMirror);
   glUniform1f(p.Uniform("u_mirror_depth"), 0.03f);
-  s->pen_on = p.Uniform("u_pen_on");
   s->pen_tip = p.Uniform("u_pen_tip");
   s->pen_axis = p.Uniform("u_pen_axis");
   s->pen_length = p.Uniform("u_pen_length");
@@ -41,7 +40,6 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->pen_margin = p.Uniform("u_pen_margin");
   s->plate_map = p.Uniform("u_plate_map");
   s->plate_gain = p.Uniform("u_plate_gain");
-  s->plate_on = p.Uniform("u_plate_on");
   return true;
 }
 
@@ -74,7 +72,7 @@ void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
 bool WaterPass::Create(const Options& options, std::string* error) {
   options_ = options;
   for (int v = 0; v < kVariants; ++v) {
-    if ((v & kRealObjects) && !(v & kRefraction)) continue;
+    if ((v & (kRealPen | kRealPlate)) && !(v & kRefraction)) continue;
     std::string defines;
     if (options.env_cube) defines += "#define ENV_CUBE 1\n";
     if (options.sky) defines += "#define SKY 1\n";
@@ -82,7 +80,8 @@ bool WaterPass::Create(const Options& options, std::string* error) {
     if (v & kCaustics) defines += "#define CAUSTICS 1\n";
     if (v & kReflection) defines += "#define REFLECTION 1\n";
     if (v & kRefraction) defines += "#define REFRACTION 1\n";
-    if (v & kRealObjects) defines += "#define REAL_OBJECTS 1\n";
+    if (v & kRealPen) defines += "#define REAL_PEN 1\n";
+    if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
     if (!BuildShading(&variants_[v], defines, options, error)) return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
@@ -137,7 +136,10 @@ bool WaterPass::Create(const Options& options, std::string* error) {
 void WaterPass::Draw(const FrameState& f, bool have_video,
                      const RealObjectsState& real) {
   const Effects& fx = f.scene->effects;
-  const bool with_real = fx.refraction && real.any() && have_video;
+  // The plate matters only where this frame's mask hides the board.
+  const bool real_ok = fx.refraction && have_video && !fx.flat_water;
+  const bool with_pen = real_ok && real.pen;
+  const bool with_plate = real_ok && real.mask && real.plate;
   const Shading& shading =
       fx.flat_water
           ? flat_
@@ -145,7 +147,8 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
                       (fx.caustics ? kCaustics : 0) |
                       (fx.reflection && have_video ? kReflection : 0) |
                       (fx.refraction ? kRefraction : 0) |
-                      (with_real ? kRealObjects : 0)];
+                      (with_pen ? kRealPen : 0) |
+                      (with_plate ? kRealPlate : 0)];
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -176,17 +179,17 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   glUniform1f(shading.glint_peak, w.glint_peak);
   glUniform1f(shading.inv_alpha2, w.inv_alpha2);
   SetUniform(shading.return_tint, return_tint_);
-  if (with_real && !fx.flat_water) {
-    glUniform1f(shading.pen_on, real.pen ? 1.0f : 0.0f);
+  if (with_pen) {
     SetUniform(shading.pen_tip, real.pen_tip);
     SetUniform(shading.pen_axis, real.pen_axis);
     glUniform1f(shading.pen_length, real.pen_length);
     glUniform1f(shading.pen_radius, real.pen_radius);
     glUniform1f(shading.pen_margin, real.pen_margin);
+  }
+  if (with_plate) {
     glUniform4f(shading.plate_map, real.plate_map.x, real.plate_map.y,
                 real.plate_map.z, real.plate_map.w);
     glUniform1f(shading.plate_gain, real.plate_gain);
-    glUniform1f(shading.plate_on, real.plate ? 1.0f : 0.0f);
   }
   glStencilFunc(GL_EQUAL, 1, 0xff);
   glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);

@@ -52,8 +52,11 @@ class WaterPass {
     kCaustics = 2,
     kReflection = 4,
     kRefraction = 8,
-    kRealObjects = 16,  // only with kRefraction
-    kVariants = 32,
+    // Only with kRefraction (RealObjectsState): the submerged real pen, and
+    // the clean plate behind this frame's occluder mask.
+    kRealPen = 16,
+    kRealPlate = 32,
+    kVariants = 64,
   };
   struct Shading {
     Program program;
@@ -61,10 +64,9 @@ class WaterPass {
     // Per-frame optics (FrameState::shading).
     GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
           glint_peak = -1, inv_alpha2 = -1, return_tint = -1;
-    // kRealObjects.
-    GLint pen_on = -1, pen_tip = -1, pen_axis = -1, pen_length = -1,
-          pen_radius = -1, pen_margin = -1, plate_map = -1, plate_gain = -1,
-          plate_on = -1;
+    // kRealPen, kRealPlate.
+    GLint pen_tip = -1, pen_axis = -1, pen_length = -1, pen_radius = -1,
+          pen_margin = -1, plate_map = -1, plate_gain = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

@@ -17,14 +17,16 @@
 // shader 2-3 times per pixel along the many triangle edges.
 //
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
-// REAL_OBJECTS, FLAT_WATER): llvmpipe runs both sides of a branch, so
-// disabled effects must not be in the shader at all.
+// REAL_PEN, REAL_PLATE, FLAT_WATER): llvmpipe runs both sides of a branch
+// (an `if` whose condition is false on every pixel still costs its body),
+// so disabled effects must not be in the shader at all.
 //
-// REAL_OBJECTS (with REFRACTION): the real scene inside the water. A
+// The real scene inside the water (with REFRACTION): with REAL_PEN, a
 // refracted ray that meets the submerged part of the real pen's shaft sees
 // the pen, coloured as the video shows the same line of the shaft just
 // above the surface (the real pen is dry and straight, so this draws the
-// "bent pen" at the waterline); a floor point whose line of sight from the
+// "bent pen" at the waterline); with REAL_PLATE (a clean plate and an
+// occluder mask this frame), a floor point whose line of sight from the
 // camera passes through the real pen or an occluder (the video shows them,
 // not the floor: the occluder mask marks both) takes the board from the
 // clean plate.
@@ -52,18 +54,20 @@ uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
 uniform float u_mirror_depth;    // typical height of what it mirrors, metres
 
-#ifdef REAL_OBJECTS
-uniform float u_pen_on;
+#ifdef REAL_PEN
 uniform vec3 u_pen_tip;      // shaft axis: tip ...
 uniform vec3 u_pen_axis;     // ... towards the cube (unit)
 uniform float u_pen_length;  // tip to the cube's face
 uniform float u_pen_radius;  // shaft
 uniform float u_pen_margin;  // the video's pen may lie this far outside
+#endif
+#ifdef REAL_PLATE
 uniform sampler2D u_occluders;  // 1: an occluder, 0.5: the pen (pass_real.h)
 uniform sampler2D u_plate;      // the board alone, tank frame
 uniform vec4 u_plate_map;       // uv = xy * map.xy + map.zw
 uniform float u_plate_gain;     // this frame's light over the plate's
-uniform float u_plate_on;
+#endif
+#ifdef REAL_PEN
 
 // Distance along o + s d (0 < s < s_max, d unit) to the shaft's side, of
 // `radius`; s_max when it misses.
@@ -76,7 +80,7 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
   float disc = b * b - a * (dot(mp, mp) - radius * radius);
   float s = (-b - sqrt(max(disc, 0.0))) / a;
   float u = dot(m + s * d, u_pen_axis);
-  bool hit = u_pen_on > 0.5 && disc > 0.0 && s > 0.0 && s < s_max &&
+  bool hit = disc > 0.0 && s > 0.0 && s < s_max &&
              u > -u_pen_margin && u < u_pen_length;
   return hit ? s : s_max;
 }
@@ -146,7 +150,7 @@ void main() {
   vec3 lookup = on_floor ? f : (mirrored ? f + t2 * tf2 : beyond);
   th += mirrored ? tf2 : 0.0;
   f = on_floor || mirrored ? lookup : f;
-#ifdef REAL_OBJECTS
+#ifdef REAL_PEN
   // The submerged shaft in the way: seen as the video shows the same line
   // of the cylinder 4 mm above the surface (one fetch for either: the
   // lookup point is chosen, not the colour), lit like an obstacle.
@@ -156,19 +160,23 @@ void main() {
   vec3 above =
       h + u_pen_axis * ((u_tank.w + 0.004 - h.z) / max(u_pen_axis.z, 0.2));
   lookup = pen_hit ? above : lookup;
+#else
+  const bool pen_hit = false;
 #endif
   vec2 lookup_uv = VideoUv(lookup);
   vec4 seen = textureLod(u_scene, lookup_uv, 0.0);
-#ifdef REAL_OBJECTS
+#ifdef REAL_PLATE
   // A board point (z = 0) the video does not show (the occluder mask: 1 an
   // occluder, 0.5 the pen's silhouette): the clean plate's board there
   // (unknown texels keep the video).
-  if (!pen_hit && seen.a > 0.5 && lookup.z < 1e-3 && u_plate_on > 0.5 &&
+  if (!pen_hit && seen.a > 0.5 && lookup.z < 1e-3 &&
       textureLod(u_occluders, lookup_uv, 0.0).r > 0.25) {
     vec4 board =
         textureLod(u_plate, lookup.xy * u_plate_map.xy + u_plate_map.zw, 0.0);
     seen.rgb = mix(seen.rgb, board.rgb * u_plate_gain, board.a);
   }
+#endif
+#ifdef REAL_PEN
   if (pen_hit) {
     seen.a = 0.0;
     th = s_pen;

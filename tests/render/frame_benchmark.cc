@@ -10,6 +10,10 @@
 // interleave the runs: --benchmark_enable_random_interleaving=true.
 #include <benchmark/benchmark.h>
 #include <time.h>
+#if __has_include(<valgrind/callgrind.h>)
+#include <valgrind/callgrind.h>
+#define RIPPLE_HAVE_CALLGRIND 1
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +32,29 @@ constexpr int kW = 640, kH = 480, kN = 128;
 double MinOf(const std::vector<double>& v) {
   return *std::min_element(v.begin(), v.end());
 }
+
+// Instruction counts that other load cannot disturb: under
+//   LP_NUM_THREADS=0 valgrind --tool=callgrind --collect-atstart=no
+//       --smc-check=all-non-file render_frame_benchmark --benchmark_filter=...
+// callgrind counts only the timed frames (shader compilation and the first
+// frame's set-up excluded); with LP_NUM_THREADS=0 llvmpipe rasterises on the
+// calling thread, so the count is all the frame's work. Divide by the
+// iterations the benchmark prints. A no-op outside valgrind.
+class CallgrindRegion {
+ public:
+  CallgrindRegion() {
+#ifdef RIPPLE_HAVE_CALLGRIND
+    CALLGRIND_TOGGLE_COLLECT;
+#endif
+  }
+  ~CallgrindRegion() {
+#ifdef RIPPLE_HAVE_CALLGRIND
+    CALLGRIND_TOGGLE_COLLECT;
+#endif
+  }
+  CallgrindRegion(const CallgrindRegion&) = delete;
+  CallgrindRegion& operator=(const CallgrindRegion&) = delete;
+};
 
 // CPU time of the whole process (all threads: the caller and llvmpipe's
 // rasterizer threads), milliseconds. Less disturbed by other load on a
@@ -116,6 +143,7 @@ void BM_Frame(benchmark::State& state) {
   f->renderer->Finish();
   double shadow = 0, caustics = 0, frames = 0, rebuilds = 0;
   const double cpu0 = ProcessCpuMs();
+  const CallgrindRegion counted;
   for (auto _ : state) {
     if (mode != kFullIdle) {
       in.water.change_counter++;
@@ -183,6 +211,7 @@ void BM_MainPassWithout(benchmark::State& state) {
   if (without == kVideoUpload) in.video.bgr = nullptr;
   double upload_ms = 0, frames = 0;
   const double cpu0 = ProcessCpuMs();
+  const CallgrindRegion counted;
   for (auto _ : state) {
     in.water.change_counter++;
     f->renderer->Render(in);

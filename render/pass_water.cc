@@ -64,7 +64,7 @@ void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
   return_tint_ = glm::vec3(mean / std::max(mean.g, 1e-12));
   // On its own unit: AllocTexture binds to the active one.
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
-  AllocTexture(&floor_return_, GL_RGBA16F, map.nx, map.ny, GL_RGBA, GL_FLOAT,
+  AllocTexture(&floor_return_, GL_RGBA8, map.nx, map.ny, GL_RGBA, GL_FLOAT,
                GL_LINEAR, GL_CLAMP_TO_EDGE, packed.data());
   floor_return_tank_ = tank;
 }

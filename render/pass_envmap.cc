@@ -178,6 +178,7 @@ bool EnvMapPass::Create(const Options& options, std::string* error) {
   }
   glUseProgram(program_.id());
   glUniform1i(program_.Uniform("u_source"), kUnitReflection);
+  glUniform1f(program_.Uniform("u_srgb_out"), options.srgb_source ? 1.f : 0.f);
   const int n = options.face_size;
   cube_.Create();
   glActiveTexture(GL_TEXTURE0 + kUnitEnvCube);

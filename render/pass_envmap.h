@@ -85,6 +85,7 @@ class EnvMapPass {
     double rebuild_turn_rad = 1.0 * 3.14159265358979 / 180.0;
     double rebuild_box_px = 4.0;       // pixels, any edge of the box
     double rebuild_mean_levels = 3.0;  // 8-bit levels, thumbnail mean
+    bool srgb_source = true;           // the source holds sRGB-encoded values
   };
   bool Create(const Options& options, std::string* error);
 

@@ -8,7 +8,6 @@
 namespace ripple::render::internal {
 
 bool ObstaclesPass::Create(const Options& options, std::string* error) {
-  srgb_ = options.srgb;
   if (!BuildProgram(&solid_[0], "solid", "solid.vert", "solid.frag", "",
                     error) ||
       !BuildProgram(&solid_[1], "shadowed solid", "solid.vert", "solid.frag",
@@ -27,9 +26,9 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
 
 bool ObstaclesPass::AllocateOutput(int width, int height) {
   // Blits into it copy the encoded values (GL_FRAMEBUFFER_SRGB stays off);
-  // the water's fetches decode them.
-  AllocTexture(&scene_copy_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, width,
-               height, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
+  // the shaders decode them after filtering (DecodeVideo, common.glsl).
+  AllocTexture(&scene_copy_tex_, GL_RGBA8, width, height, GL_RGBA,
+               GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
   return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
 }
 

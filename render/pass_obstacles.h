@@ -20,8 +20,6 @@ class ObstaclesPass {
  public:
   struct Options {
     glm::vec3 albedo{0.80f, 0.76f, 0.70f};  // linear RGB
-    // The output is sRGB-encoded: the refraction copy decodes it on fetch.
-    bool srgb = true;
     // ShadowFilterDefines of the renderer's filter (pass_shadow.h).
     std::string shadow_defines;
   };
@@ -42,7 +40,6 @@ class ObstaclesPass {
   Program depth_;
   ModelUniforms depth_model_;
   Texture scene_copy_tex_;
-  bool srgb_ = true;
   Framebuffer scene_copy_fbo_;
 };
 

@@ -8,8 +8,7 @@
 
 namespace ripple::render::internal {
 
-bool VideoBackgroundPass::Create(bool srgb, std::string* error) {
-  srgb_ = srgb;
+bool VideoBackgroundPass::Create(std::string* error) {
   if (!BuildProgram(&undistort_, "undistort", "fullscreen.vert",
                     "undistort.frag", "", error)) {
     return false;
@@ -26,8 +25,8 @@ bool VideoBackgroundPass::Create(bool srgb, std::string* error) {
 
 bool VideoBackgroundPass::AllocateOutput(int width, int height) {
   const int rw = std::max(1, width / 4), rh = std::max(1, height / 4);
-  AllocTexture(&reflection_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, rw, rh,
-               GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR, GL_MIRRORED_REPEAT);
+  AllocTexture(&reflection_tex_, GL_RGBA8, rw, rh, GL_RGBA, GL_UNSIGNED_BYTE,
+               GL_LINEAR, GL_MIRRORED_REPEAT);
   const bool ok = AttachColor(&reflection_fbo_, reflection_tex_);
   reflection_from_cpu_ = false;  // until the next video upload
   return ok;

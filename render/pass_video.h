@@ -20,9 +20,9 @@ namespace ripple::render::internal {
 
 class VideoBackgroundPass {
  public:
-  // `srgb`: the video is sRGB-encoded, so the reflection map decodes it on
-  // fetch (GL_SRGB8_ALPHA8); the background itself is copied as it is.
-  bool Create(bool srgb, std::string* error);
+  // The video, the background and the reflection map keep the video's
+  // encoding; shaders decode what they fetch (DecodeVideo, common.glsl).
+  bool Create(std::string* error);
   // (Re)allocates what has the output's size (the reflection map).
   bool AllocateOutput(int width, int height);
 
@@ -66,7 +66,6 @@ class VideoBackgroundPass {
   Texture reflection_tex_;
   Framebuffer reflection_fbo_;
   bool reflection_from_cpu_ = false;
-  bool srgb_ = true;
   std::vector<std::uint32_t> video_rgba_;       // upload buffer
   std::vector<std::uint32_t> reflection_rgba_;  // upload buffer
   std::vector<std::uint8_t> thumbnail_;

@@ -172,9 +172,8 @@ bool Renderer::Impl::Init(std::string* error) {
   caustics_options.glass_ior = o.optics.glass_ior;
   const bool srgb = o.video_transfer == Transfer::kSrgb;
   const internal::ObstaclesPass::Options obstacles_options{
-      o.obstacle_albedo, srgb,
-      internal::ShadowFilterDefines(o.shadow_filter,
-                                    o.shadow_gauss_sigma_texels)};
+      o.obstacle_albedo, internal::ShadowFilterDefines(
+                             o.shadow_filter, o.shadow_gauss_sigma_texels)};
   const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
   const bool sky = o.daylight.has_value();
   const internal::WaterPass::Options water_options{
@@ -187,7 +186,8 @@ bool Renderer::Impl::Init(std::string* error) {
   envmap_options.rebuild_turn_rad = o.envmap.rebuild_turn_rad;
   envmap_options.rebuild_box_px = o.envmap.rebuild_box_px;
   envmap_options.rebuild_mean_levels = o.envmap.rebuild_mean_levels;
-  if (!video.Create(srgb, error) || !shadow.Create(shadow_options, error) ||
+  envmap_options.srgb_source = srgb;
+  if (!video.Create(error) || !shadow.Create(shadow_options, error) ||
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
       !walls.Create(walls_options, error) || !present.Create(error) ||

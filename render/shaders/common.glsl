@@ -51,6 +51,23 @@ vec3 Environment(vec3 r, vec3 fallback) {
   return env;
 }
 
+// The video's encoded value -> linear light (u_srgb_out: the video's
+// transfer, which the output shares). The video's textures (the scene copy,
+// the reflection map) are plain RGBA8, filtered as stored and decoded here,
+// once per lookup: llvmpipe's sRGB textures decode each of the four texels
+// before filtering, which cost 8% of the main pass. The power segment of
+// IEC 61966-2-1 by a quartic fit, within 0.05 of an 8-bit level through a
+// decode and EncodeOutput; filtering before the decode differs from
+// filtering linear light only between texels of different values (an edge
+// between them moves by a fraction of a pixel).
+vec3 DecodeVideo(vec3 e) {
+  vec3 power =
+      (((-0.116823349 * e + 0.526568333) * e + 0.560340083) * e +
+       0.028410428) * e + 0.001045935;
+  vec3 lin = mix(e * (1.0 / 12.92), power, step(0.04045, e));
+  return mix(e, lin, u_srgb_out);
+}
+
 vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
 
 float SurfaceZ(vec2 xy) {

@@ -15,7 +15,7 @@ void main() {
   float diffuse = max(dot(n, u_light), 0.0);
   float direct = (1.0 - u_ambient) * diffuse / max(u_light.z, 1e-3);
   vec3 lit = u_albedo * (u_ambient + direct);
-  vec3 seen = textureLod(u_scene, VideoUv(v_p), 0.0).rgb;
+  vec3 seen = DecodeVideo(textureLod(u_scene, VideoUv(v_p), 0.0).rgb);
   vec3 c = mix(lit, seen, u_is_pen);
   float a = exp(-h / u_fade_m);
   o_color = vec4(c * a, a);

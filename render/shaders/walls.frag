@@ -85,7 +85,7 @@ void main() {
     float r_s = to_surface ? FresnelExact(d.z, 1.0 / u_ior) : 1.0;
     vec3 at = to_floor ? p + d * e.x : (to_surface ? q + d2 * t2 : p + d * e.z);
     float len = to_floor ? e.x : (to_surface ? e.y + t2 : e.z);
-    vec3 video = textureLod(u_scene, VideoUv(at), 0.0).rgb;
+    vec3 video = DecodeVideo(textureLod(u_scene, VideoUv(at), 0.0).rgb);
     vec3 floor_seen = FloorUnderWater(at, video) * u_inv_n2;
     vec3 seen = to_floor || to_surface
                     ? r_s * floor_seen + (1.0 - r_s) * vec3(u_ambient)

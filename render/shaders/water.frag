@@ -98,7 +98,8 @@ vec3 EnvLookup(vec3 p, vec3 r) {
   c.z = max(abs(c.z), 0.02);  // fold what lies behind the camera forwards
   vec2 px = u_intr.xy * c.xy / c.z + u_intr.zw;
   return Environment(
-      r, textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb);
+      r, DecodeVideo(
+             textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb));
 #endif
 }
 
@@ -165,6 +166,7 @@ void main() {
 #endif
   vec2 lookup_uv = VideoUv(lookup);
   vec4 seen = textureLod(u_scene, lookup_uv, 0.0);
+  seen.rgb = DecodeVideo(seen.rgb);
 #ifdef REAL_PLATE
   // A board point (z = 0) the video does not show (the occluder mask: 1 an
   // occluder, 0.5 the pen's silhouette): the clean plate's board there

@@ -20,8 +20,8 @@ bool RealObjectsPass::Create(bool srgb, std::string* error) {
   // A 1x1 unknown plate until one arrives (alpha 0: the video stays).
   const std::uint8_t none[4] = {0, 0, 0, 0};
   glActiveTexture(GL_TEXTURE0 + kUnitPlate);
-  AllocTexture(&plate_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, 1, 1, GL_RGBA,
-               GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE, none);
+  AllocTexture(&plate_tex_, GL_RGBA8, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE,
+               GL_LINEAR, GL_CLAMP_TO_EDGE, none);
   plate_w_ = plate_h_ = 1;
   return true;
 }
@@ -99,9 +99,8 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
       p.texel_m > 0) {
     glActiveTexture(GL_TEXTURE0 + kUnitPlate);
     if (p.width != plate_w_ || p.height != plate_h_) {
-      AllocTexture(&plate_tex_, srgb_ ? GL_SRGB8_ALPHA8 : GL_RGBA8, p.width,
-                   p.height, GL_BGRA, GL_UNSIGNED_BYTE, GL_LINEAR,
-                   GL_CLAMP_TO_EDGE);
+      AllocTexture(&plate_tex_, GL_RGBA8, p.width, p.height, GL_BGRA,
+                   GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
       plate_w_ = p.width;
       plate_h_ = p.height;
       plate_counter_.reset();

@@ -175,7 +175,8 @@ void main() {
       textureLod(u_occluders, lookup_uv, 0.0).r > 0.25) {
     vec4 board =
         textureLod(u_plate, lookup.xy * u_plate_map.xy + u_plate_map.zw, 0.0);
-    seen.rgb = mix(seen.rgb, board.rgb * u_plate_gain, board.a);
+    seen.rgb =
+        mix(seen.rgb, DecodeVideo(board.rgb) * u_plate_gain, board.a);
   }
 #endif
 #ifdef REAL_PEN

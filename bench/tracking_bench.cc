@@ -43,7 +43,7 @@ struct Outcome {
 };
 
 std::string SettingName(const tracking::TrackerOptions& o) {
-  char buf[112];
+  char buf[320];
   std::snprintf(
       buf, sizeof(buf), "d%g %s%s%s %s%s", o.detector.quad_decimate,
       o.pen_mode == tracking::PenMode::kJoint ? "joint" : "best-face",
@@ -75,6 +75,43 @@ std::string SettingName(const tracking::TrackerOptions& o) {
   }
   if (o.pose.weight_by_view_angle != d.pose.weight_by_view_angle)
     name += o.pose.weight_by_view_angle ? " view-weights" : " no-view-weights";
+  if (o.smoothing.enabled != d.smoothing.enabled && !o.smoothing.enabled)
+    name += " no-smoothing";
+  if (o.smoothing.enabled) {
+    // Pen translation cut-off / beta, pen rotation cut-off / beta, tank
+    // cut-off, when not the defaults.
+    const auto& p = o.smoothing.pen;
+    const auto& t = o.smoothing.tank;
+    const auto& dp = d.smoothing.pen;
+    const auto& dt = d.smoothing.tank;
+    const bool same =
+        p.min_cutoff_translation_hz == dp.min_cutoff_translation_hz &&
+        p.beta_translation_hz_per_m_s == dp.beta_translation_hz_per_m_s &&
+        p.min_cutoff_rotation_hz == dp.min_cutoff_rotation_hz &&
+        p.beta_rotation_hz_per_rad_s == dp.beta_rotation_hz_per_rad_s &&
+        p.derivative_cutoff_hz == dp.derivative_cutoff_hz &&
+        t.min_cutoff_rotation_hz == dt.min_cutoff_rotation_hz &&
+        t.min_cutoff_translation_hz == dt.min_cutoff_translation_hz &&
+        t.beta_translation_hz_per_m_s == dt.beta_translation_hz_per_m_s &&
+        t.beta_rotation_hz_per_rad_s == dt.beta_rotation_hz_per_rad_s &&
+        t.derivative_cutoff_hz == dt.derivative_cutoff_hz &&
+        t.reset_rotation_deg == dt.reset_rotation_deg &&
+        t.reset_translation_m == dt.reset_translation_m;
+    if (same) {
+      name += " smooth";
+    } else {
+      // The --smoothing-grid spelling of the setting.
+      std::snprintf(
+          buf, sizeof(buf), " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g",
+          p.min_cutoff_translation_hz, p.beta_translation_hz_per_m_s,
+          p.min_cutoff_rotation_hz, p.beta_rotation_hz_per_rad_s,
+          p.derivative_cutoff_hz, t.min_cutoff_rotation_hz,
+          t.beta_translation_hz_per_m_s, t.beta_rotation_hz_per_rad_s,
+          t.derivative_cutoff_hz, t.reset_rotation_deg,
+          1000 * t.reset_translation_m);
+      name += buf;
+    }
+  }
   return name;
 }
 
@@ -91,7 +128,8 @@ bool IsDefault(const tracking::TrackerOptions& o) {
          o.detector.pixel_offset_px == defaults.detector.pixel_offset_px &&
          o.pose.loss == defaults.pose.loss &&
          o.pose.loss_scale_px == defaults.pose.loss_scale_px &&
-         o.pose.weight_by_view_angle == defaults.pose.weight_by_view_angle;
+         o.pose.weight_by_view_angle == defaults.pose.weight_by_view_angle &&
+         SettingName(o) == SettingName(defaults);
 }
 
 Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
@@ -159,7 +197,8 @@ bool TrackingSetting::is_default() const {
 }
 
 std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
-    Sweep sweep, int threads) {
+    Sweep sweep, int threads,
+    const std::vector<tracking::SmoothingOptions>& smoothing_grid) {
   const tracking::TrackerOptions defaults;
   std::vector<tracking::TrackerOptions> list;
   if (sweep == Sweep::kFull) {
@@ -177,6 +216,37 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
           }
   } else if (sweep == Sweep::kDefault) {
     list.push_back(defaults);
+  } else if (sweep == Sweep::kSmoothing) {
+    tracking::TrackerOptions o = defaults;
+    o.smoothing.enabled = !defaults.smoothing.enabled;
+    list.push_back(defaults);
+    list.push_back(o);
+    if (!o.smoothing.enabled) o.smoothing.enabled = true;
+    // Pen: translation (min cut-off Hz, beta Hz per m/s), rotation (min
+    // cut-off Hz, beta Hz per rad/s); tank: min cut-off Hz.
+    struct Grid {
+      double t_hz, t_beta, r_hz, r_beta, tank_hz;
+    };
+    for (const Grid& g : std::vector<Grid>{{0.5, 100, 0.3, 1, 0.3},
+                                          {1.0, 50, 0.5, 2, 0.5},
+                                          {1.0, 200, 0.3, 1, 0.3},
+                                          {1.0, 400, 0.2, 1, 0.2},
+                                          {2.0, 400, 0.5, 2, 0.5},
+                                          {0.3, 200, 0.2, 0.5, 0.1}}) {
+      tracking::TrackerOptions g_o = o;
+      g_o.smoothing.pen.min_cutoff_translation_hz = g.t_hz;
+      g_o.smoothing.pen.beta_translation_hz_per_m_s = g.t_beta;
+      g_o.smoothing.pen.min_cutoff_rotation_hz = g.r_hz;
+      g_o.smoothing.pen.beta_rotation_hz_per_rad_s = g.r_beta;
+      g_o.smoothing.tank.min_cutoff_translation_hz = g.tank_hz;
+      g_o.smoothing.tank.min_cutoff_rotation_hz = g.tank_hz;
+      if (smoothing_grid.empty()) list.push_back(g_o);
+    }
+    for (const tracking::SmoothingOptions& g : smoothing_grid) {
+      tracking::TrackerOptions g_o = defaults;
+      g_o.smoothing = g;
+      list.push_back(g_o);
+    }
   } else if (sweep == Sweep::kSuspects) {
     list.push_back(defaults);
     tracking::TrackerOptions o = defaults;
@@ -247,11 +317,12 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     s->plain_decimate = plain_decimate;
     settings.push_back(std::move(s));
   };
-  if (sweep != Sweep::kSuspects) {
+  if (sweep != Sweep::kSuspects && sweep != Sweep::kSmoothing) {
     add(Baseline::kPaper, "paper: frontal face, estimate_tag_pose", 2);
     add(Baseline::kIppe, "opencv IPPE_SQUARE, best-posed face", 2);
   }
-  add(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners", 2);
+  if (sweep != Sweep::kSmoothing)
+    add(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners", 2);
   add(Baseline::kPlainSqpnpLm,
       "plain: SQPNP+LM on apriltag corners -0.5 px, d2", 2);
   add(Baseline::kPlainSqpnpLm,
@@ -286,7 +357,8 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   for (auto* list : {&specs, &still})
     for (synth::FrameSpec& f : *list) synth::ApplyVariant(variant, &f.imaging);
   synth::SceneRenderer renderer(camera, rig, options.floor, variant.formation);
-  result->settings = MakeTrackingSettings(options.sweep, options.threads);
+  result->settings = MakeTrackingSettings(options.sweep, options.threads,
+                                          options.smoothing_grid);
   auto& settings = result->settings;
   // Every detector decodes the frames as the variant's camera file says,
   // as `ripple track` does (the plain baseline's libapriltag corners do not
@@ -473,6 +545,9 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
       row.pen_flip_rejected = o.pen_flip_rejected;
       row.pen_jumped = o.pen_jumped;
       row.pen_ambiguous = o.pen_ambiguous;
+      row.motion_blur_px = spec.imaging.motion_blur_px;
+      row.defocus_px = spec.imaging.defocus_sigma_px;
+      row.occluders = static_cast<int>(spec.scene.occluders.size());
       result->frame_rows.push_back(std::move(row));
     }
     if (++done % 50 == 0 && progress) progress(done, total_frames);
@@ -546,7 +621,8 @@ void WriteTrackingCsvRows(const TrackingBenchOptions& options,
 void WriteTrackingFramesCsvHeader(std::ostream* csv) {
   *csv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,flip,"
           "pen_faces_visible,pen_face_px,pen_status,pen_tags,"
-          "pen_flip_rejected,pen_jumped,pen_ambiguous\n";
+          "pen_flip_rejected,pen_jumped,pen_ambiguous,motion_blur_px,"
+          "defocus_px,occluders\n";
 }
 
 void WriteTrackingFramesCsvRows(const std::string& size,
@@ -557,7 +633,9 @@ void WriteTrackingFramesCsvRows(const std::string& size,
          << r.tank_rot_deg << ',' << r.pen_rot_deg << ',' << r.tip_mm << ','
          << r.flip << ',' << r.pen_faces_visible << ',' << r.pen_face_px << ','
          << r.pen_status << ',' << r.pen_tags << ',' << r.pen_flip_rejected
-         << ',' << r.pen_jumped << ',' << r.pen_ambiguous << '\n';
+         << ',' << r.pen_jumped << ',' << r.pen_ambiguous << ','
+         << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders
+         << '\n';
 }
 
 }  // namespace ripple::bench

@@ -50,6 +50,29 @@ std::optional<FaceSelection> ParseFaceSelection(const std::string& s) {
   return std::nullopt;
 }
 
+PoseFilterOptions SmoothingOptions::DefaultTankFilter() {
+  PoseFilterOptions o;
+  return o;
+}
+
+PoseFilterOptions SmoothingOptions::DefaultPenFilter() {
+  PoseFilterOptions o;
+  return o;
+}
+
+bool SmoothingOptions::IsValid(std::string* error) const {
+  std::string what;
+  if (!tank.IsValid(&what)) {
+    if (error) *error = "tank " + what;
+    return false;
+  }
+  if (!pen.IsValid(&what)) {
+    if (error) *error = "pen " + what;
+    return false;
+  }
+  return true;
+}
+
 bool TrackerOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
     if (error) *error = what;
@@ -100,8 +123,9 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
 void Tracker::Reset() {
   tank_ = ObjectState{};
   pen_ = ObjectState{};
-  tank_.filter = PoseFilter(options_.smoothing);
-  pen_.filter = PoseFilter(options_.smoothing);
+  tank_.filter = PoseFilter(options_.smoothing.tank);
+  if (rig_.pen)
+    pen_.filter = PoseFilter(options_.smoothing.pen, rig_.pen->tip_in_pen);
   roi_search_.Reset();
   frame_ = 0;
   last_corners_.clear();
@@ -273,6 +297,7 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
 
 void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
                            double time_s, bool cut, double hold_s,
+                           const std::pair<Pose, Pose>* tank_now,
                            ObjectState* state, ObjectTrack* out) {
   *out = ObjectTrack{};
   if (estimate) {
@@ -288,8 +313,24 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
     state->last_raw = estimate->pose.cam_from_object;
     state->lost_raw.reset();
     state->hypotheses = estimate->hypotheses;
-    out->cam_from_object =
-        state->filter.Filter(estimate->pose.cam_from_object, time_s);
+    const Pose& raw = estimate->pose.cam_from_object;
+    if (!options_.smoothing.enabled) {
+      out->cam_from_object = raw;
+    } else {
+      const bool in_tank = tank_now != nullptr;
+      if (out->ambiguous || out->jumped || in_tank != state->filter_in_tank)
+        state->filter.Reset();
+      state->filter_in_tank = in_tank;
+      if (in_tank) {
+        out->cam_from_object =
+            tank_now->second *
+            state->filter.Filter(tank_now->first.Inverse() * raw, time_s);
+      } else {
+        out->cam_from_object = state->filter.Filter(raw, time_s);
+      }
+      // While ambiguous the pose may switch branch: never filtered.
+      if (out->ambiguous) state->filter.Reset();
+    }
     state->last_output = out->cam_from_object;
     state->last_seen_s = time_s;
     state->ever_seen = true;
@@ -320,8 +361,8 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
   const auto tank_obs = MatchObservations(camera_, rig_.tank_tags, detections);
   std::optional<Estimate> tank_estimate;
   if (!tank_obs.empty()) tank_estimate = EstimateTank(tank_obs, use_prior);
-  UpdateObject(tank_estimate, time_s, r.cut, options_.tank_hold_s, &tank_,
-               &r.tank);
+  UpdateObject(tank_estimate, time_s, r.cut, options_.tank_hold_s, nullptr,
+               &tank_, &r.tank);
   if (rig_.pen) {
     const auto pen_obs =
         MatchObservations(camera_, rig_.pen->faces, detections);
@@ -351,8 +392,11 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
           camera_, pen_obs, pen_estimate->pose.cam_from_object, &corners);
       pen_estimate->pose.rmse_px = std::sqrt(sse / std::max(corners, 1));
     }
-    UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
-                 &r.pen);
+    std::optional<std::pair<Pose, Pose>> tank_now;
+    if (r.tank.status == TrackStatus::kTracked)
+      tank_now.emplace(*tank_.last_raw, *r.tank.cam_from_object);
+    UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s,
+                 tank_now ? &*tank_now : nullptr, &pen_, &r.pen);
     if (r.tank.has_pose() && r.pen.has_pose()) {
       r.tip_in_tank = r.tank.cam_from_object->Inverse() *
                       (*r.pen.cam_from_object * rig_.pen->tip_in_pen);
@@ -387,10 +431,10 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     gray = &gray_;
   }
   std::vector<RoiObject> objects = {
-      {tank_.last_output ? &*tank_.last_output : nullptr, &rig_.tank_tags}};
+      {tank_.last_raw ? &*tank_.last_raw : nullptr, &rig_.tank_tags}};
   if (rig_.pen)
     objects.push_back(
-        {pen_.last_output ? &*pen_.last_output : nullptr, &rig_.pen->faces});
+        {pen_.last_raw ? &*pen_.last_raw : nullptr, &rig_.pen->faces});
   bool full = true;
   const std::vector<TagDetection> detections =
       roi_search_.Detect(&detector_, *gray, camera_, objects, &full);

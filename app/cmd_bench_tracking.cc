@@ -32,11 +32,12 @@ struct BenchArgs {
   std::vector<std::string> smoothing_grid;
 };
 
-// One --smoothing-grid entry: eleven numbers separated by '/': the pen's
+// One --smoothing-grid entry: fourteen numbers separated by '/': the pen's
 // translation cut-off (Hz) and beta (Hz per m/s), rotation cut-off (Hz) and
 // beta (Hz per rad/s), derivative cut-off (Hz); the tank's cut-off (Hz,
 // both parts), translation beta, rotation beta, derivative cut-off, reset
-// bounds (degrees, millimetres).
+// bounds (degrees, millimetres); the pen's reset bounds (degrees,
+// millimetres); 1 to restart the pen's filter while it is ambiguous, 0 not.
 bool ParseSmoothingEntry(const std::string& text,
                          tracking::SmoothingOptions* out, std::string* error) {
   std::vector<double> v;
@@ -53,8 +54,8 @@ bool ParseSmoothingEntry(const std::string& text,
     v.push_back(x);
     start = end + 1;
   }
-  if (v.size() != 11) {
-    *error = "--smoothing-grid '" + text + "': give 11 numbers separated by /";
+  if (v.size() != 14) {
+    *error = "--smoothing-grid '" + text + "': give 14 numbers separated by /";
     return false;
   }
   tracking::SmoothingOptions s;
@@ -70,6 +71,9 @@ bool ParseSmoothingEntry(const std::string& text,
   s.tank.derivative_cutoff_hz = v[8];
   s.tank.reset_rotation_deg = v[9];
   s.tank.reset_translation_m = v[10] / 1000;
+  s.pen.reset_rotation_deg = v[11];
+  s.pen.reset_translation_m = v[12] / 1000;
+  s.reset_when_ambiguous = v[13] != 0;
   std::string why;
   if (!s.IsValid(&why)) {
     *error = "--smoothing-grid '" + text + "': " + why;
@@ -185,6 +189,10 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
                   "changing) for the jitter columns; 0: none")
       ->capture_default_str()
       ->check(CLI::Range(0, 100000));
+  sub->add_option("--static-segment", args->options.static_segment_frames,
+                  "Frames per static segment (each tracked by fresh trackers)")
+      ->capture_default_str()
+      ->check(CLI::Range(2, 100000));
   sub->add_option("--first", args->options.first,
                   "Skip (neither render nor track) the frames before this one "
                   "of the sequence (to look at one segment)")
@@ -202,8 +210,9 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
                   "--sweep smoothing: settings to try instead of the built-in "
                   "grid, each PEN_T_HZ/PEN_T_BETA/PEN_R_HZ/PEN_R_BETA/PEN_D_HZ/"
                   "TANK_HZ/TANK_T_BETA/TANK_R_BETA/TANK_D_HZ/TANK_RESET_DEG/"
-                  "TANK_RESET_MM (Hz, Hz per m/s, Hz per rad/s, degrees, "
-                  "millimetres), comma-separated")
+                  "TANK_RESET_MM/PEN_RESET_DEG/PEN_RESET_MM/AMBIGUOUS_RESET "
+                  "(Hz, Hz per m/s, Hz per rad/s, degrees, millimetres, 1 or "
+                  "0), comma-separated")
       ->delimiter(',');
   AddFloorOption(sub, &args->floor);
   return [args] { return RunBenchTracking(*args); };

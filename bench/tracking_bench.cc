@@ -96,19 +96,25 @@ std::string SettingName(const tracking::TrackerOptions& o) {
         t.beta_rotation_hz_per_rad_s == dt.beta_rotation_hz_per_rad_s &&
         t.derivative_cutoff_hz == dt.derivative_cutoff_hz &&
         t.reset_rotation_deg == dt.reset_rotation_deg &&
-        t.reset_translation_m == dt.reset_translation_m;
+        t.reset_translation_m == dt.reset_translation_m &&
+        p.reset_rotation_deg == dp.reset_rotation_deg &&
+        p.reset_translation_m == dp.reset_translation_m &&
+        o.smoothing.reset_when_ambiguous == d.smoothing.reset_when_ambiguous;
     if (same) {
       name += " smooth";
     } else {
       // The --smoothing-grid spelling of the setting.
       std::snprintf(
-          buf, sizeof(buf), " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g",
+          buf, sizeof(buf),
+          " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%d",
           p.min_cutoff_translation_hz, p.beta_translation_hz_per_m_s,
           p.min_cutoff_rotation_hz, p.beta_rotation_hz_per_rad_s,
           p.derivative_cutoff_hz, t.min_cutoff_rotation_hz,
           t.beta_translation_hz_per_m_s, t.beta_rotation_hz_per_rad_s,
           t.derivative_cutoff_hz, t.reset_rotation_deg,
-          1000 * t.reset_translation_m);
+          1000 * t.reset_translation_m, p.reset_rotation_deg,
+          1000 * p.reset_translation_m,
+          o.smoothing.reset_when_ambiguous ? 1 : 0);
       name += buf;
     }
   }
@@ -161,12 +167,13 @@ Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
   return o;
 }
 
-// Adds the frame's errors to the setting's samples and fills the error
-// fields of `row`.
+// Adds the frame's errors to the setting's samples (unless `row_only`) and
+// fills the error fields of `row`.
 void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
                 const synth::RenderedFrame& frame, const Outcome& o,
-                TrackingSetting* s, TrackingFrameRow* row) {
-  s->ms.push_back(o.ms);
+                TrackingSetting* s, TrackingFrameRow* row,
+                bool row_only = false) {
+  if (!row_only) s->ms.push_back(o.ms);
   TruthFrame truth;
   truth.frame = spec.index;
   truth.cam_from_tank = spec.scene.cam_from_tank;
@@ -183,7 +190,9 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
     if (o.tank && o.pen)
       estimate.tip_in_tank = o.tank->Inverse() * (*o.pen * rig.pen->tip_in_pen);
   }
-  const FrameErrors e = s->errors.Add(truth, estimate);
+  const FrameErrors e =
+      row_only ? ComputeFrameErrors(PoseErrorOptions{}, truth, estimate)
+               : s->errors.Add(truth, estimate);
   row->tank_rot_deg = e.tank_rot_deg;
   row->pen_rot_deg = e.pen_rot_deg;
   row->tip_mm = e.tip_mm;
@@ -350,7 +359,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   if (options.static_frames > 0) {
     seq.preset = "static";
     seq.frames = options.static_frames;
-    seq.segment_frames = 30;
+    seq.segment_frames = options.static_segment_frames;
     seq.seed = options.seed + 1000;
     if (!synth::MakeSequence(camera, rig, seq, &still, error)) return false;
   }
@@ -518,7 +527,12 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
         o.pen_ambiguous = r.pen.ambiguous;
         pen_status = tracking::ToString(r.pen.status);
       }
+      TrackingFrameRow row;
       if (is_static) {
+        if (keep_frame_rows) {
+          Accumulate(rig, spec, frame, o, s, &row, true);
+          row.is_static = true;
+        }
         StaticSamples& st = samples[si];
         if (o.tank && o.tank_tracked) st.tank.push_back(*o.tank);
         if (o.pen && o.pen_tracked) {
@@ -527,10 +541,9 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
             st.tip.push_back(o.tank->Inverse() *
                              (*o.pen * rig.pen->tip_in_pen));
         }
-        continue;
+      } else {
+        Accumulate(rig, spec, frame, o, s, &row);
       }
-      TrackingFrameRow row;
-      Accumulate(rig, spec, frame, o, s, &row);
       if (!keep_frame_rows) continue;
       row.frame = spec.index;
       row.setting = s->name;
@@ -555,7 +568,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   for (const synth::FrameSpec& spec : specs)
     if (spec.index >= options.first) run_frame(spec, false);
   for (size_t i = 0; i < still.size(); ++i) {
-    if (i % 30 == 0) {
+    if (i % options.static_segment_frames == 0) {
       if (i > 0) close_segment();
       make_trackers();  // each static segment starts afresh
     }
@@ -622,7 +635,7 @@ void WriteTrackingFramesCsvHeader(std::ostream* csv) {
   *csv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,flip,"
           "pen_faces_visible,pen_face_px,pen_status,pen_tags,"
           "pen_flip_rejected,pen_jumped,pen_ambiguous,motion_blur_px,"
-          "defocus_px,occluders\n";
+          "defocus_px,occluders,static\n";
 }
 
 void WriteTrackingFramesCsvRows(const std::string& size,
@@ -635,7 +648,7 @@ void WriteTrackingFramesCsvRows(const std::string& size,
          << r.pen_status << ',' << r.pen_tags << ',' << r.pen_flip_rejected
          << ',' << r.pen_jumped << ',' << r.pen_ambiguous << ','
          << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders
-         << '\n';
+         << ',' << r.is_static << '\n';
 }
 
 }  // namespace ripple::bench

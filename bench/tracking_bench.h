@@ -89,6 +89,7 @@ struct TrackingBenchOptions {
   // the noise changing) tracked after the benchmark frames for the jitter
   // columns, each segment by fresh trackers; 0: none.
   int static_frames = 0;
+  int static_segment_frames = 30;  // frames per static segment
   // Sweep::kSmoothing: the smoothing settings tried beside off and the
   // default (empty: a built-in grid).
   std::vector<tracking::SmoothingOptions> smoothing_grid;
@@ -109,6 +110,7 @@ struct TrackingFrameRow {
   // occluders in the scene.
   double motion_blur_px = 0, defocus_px = 0;
   int occluders = 0;
+  bool is_static = false;  // a frame of the static sequence (jitter only)
 };
 
 struct TrackingBenchResult {

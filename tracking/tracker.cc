@@ -50,13 +50,32 @@ std::optional<FaceSelection> ParseFaceSelection(const std::string& s) {
   return std::nullopt;
 }
 
+// Chosen on `ripple bench tracking --sweep smoothing` (docs/tracking.md).
 PoseFilterOptions SmoothingOptions::DefaultTankFilter() {
   PoseFilterOptions o;
+  // The board rests while the camera may move: no speed adaptation, a plain
+  // 1 Hz low-pass that restarts as soon as the measurement leaves the
+  // noise (the tank's static jitter is 0.014-0.027 degrees).
+  o.min_cutoff_translation_hz = 1.0;
+  o.min_cutoff_rotation_hz = 1.0;
+  o.beta_translation_hz_per_m_s = 0;
+  o.beta_rotation_hz_per_rad_s = 0;
+  o.reset_rotation_deg = 0.05;
+  o.reset_translation_m = 0.0003;
   return o;
 }
 
 PoseFilterOptions SmoothingOptions::DefaultPenFilter() {
   PoseFilterOptions o;
+  o.min_cutoff_translation_hz = 1.0;
+  o.beta_translation_hz_per_m_s = 100.0;
+  o.min_cutoff_rotation_hz = 0.5;
+  o.beta_rotation_hz_per_rad_s = 10.0;
+  // A tip that moves more than 1 mm (or turns 1 degree) from the filtered
+  // pose in one frame is followed at once: the filter smooths a pen at rest
+  // or creeping, never a stroke.
+  o.reset_rotation_deg = 1.0;
+  o.reset_translation_m = 0.001;
   return o;
 }
 
@@ -85,6 +104,11 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!pen_hypotheses.IsValid(error)) return false;
   if (!roi.IsValid(error)) return false;
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
+  if (!smoothing.reset_when_ambiguous &&
+      smoothing.pen.reset_rotation_deg > flip_angle_deg)
+    return fail(
+        "smoothing an ambiguous pen needs its reset bound within "
+        "flip_angle_deg");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
     return fail("flip_angle_deg must be in (0, 180)");
   if (!(ambiguity_margin_px >= 0))
@@ -318,7 +342,9 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
       out->cam_from_object = raw;
     } else {
       const bool in_tank = tank_now != nullptr;
-      if (out->ambiguous || out->jumped || in_tank != state->filter_in_tank)
+      const bool reset_ambiguous =
+          out->ambiguous && options_.smoothing.reset_when_ambiguous;
+      if (reset_ambiguous || out->jumped || in_tank != state->filter_in_tank)
         state->filter.Reset();
       state->filter_in_tank = in_tank;
       if (in_tank) {
@@ -328,8 +354,9 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
       } else {
         out->cam_from_object = state->filter.Filter(raw, time_s);
       }
-      // While ambiguous the pose may switch branch: never filtered.
-      if (out->ambiguous) state->filter.Reset();
+      // While ambiguous the pose may switch branch: the next frame starts
+      // afresh.
+      if (reset_ambiguous) state->filter.Reset();
     }
     state->last_output = out->cam_from_object;
     state->last_seen_s = time_s;

@@ -61,10 +61,14 @@ std::optional<FaceSelection> ParseFaceSelection(
 // camera frame; the pen relative to the tank (its tip the filtered point)
 // while the tank is tracked, so that the tank's filter never lags the tip,
 // and in the camera frame otherwise. A filter restarts on a cut, a loss, a
-// taken jump, while the pen is ambiguous, when the pen's reference frame
-// changes, and on a jump beyond its reset bounds.
+// taken jump, when the pen's reference frame changes, on a jump beyond its
+// reset bounds, and (reset_when_ambiguous) while the pen is ambiguous.
 struct SmoothingOptions {
-  bool enabled = false;
+  bool enabled = true;
+  // Restart the pen's filter on every frame where it is ambiguous. Without
+  // it a switch of branch still restarts it: the branches are more than
+  // flip_angle_deg apart, beyond the pen filter's reset_rotation_deg.
+  bool reset_when_ambiguous = false;
   PoseFilterOptions tank = DefaultTankFilter();
   PoseFilterOptions pen = DefaultPenFilter();
 

@@ -507,10 +507,10 @@ TEST(TrackerTest, SmoothingLowersStaticJitterAndFollowsTheTipInTheTank) {
     // on the board: its tip in the tank does not move.
     const Pose cam_from_tank = BoardView(0.004 * f);
     const auto dets = Concat(
-        testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank, 0.2,
+        testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank, 0.05,
                                    &rng),
         testing::ProjectDetections(camera, rig.pen->faces,
-                                   cam_from_tank * tank_from_pen, 0.2, &rng));
+                                   cam_from_tank * tank_from_pen, 0.05, &rng));
     const FrameResult a = smooth.TrackDetections(dets, f / kFps);
     const FrameResult b = raw.TrackDetections(dets, f / kFps);
     ASSERT_TRUE(a.tip_in_tank && b.tip_in_tank);

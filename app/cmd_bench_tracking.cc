@@ -91,11 +91,11 @@ int RunBenchTracking(BenchArgs& args) {
   auto floor = MakeFloorOrReport(args.floor, *rig);
   if (!floor) return kExitBadInput;
   args.options.floor = *floor;
-  args.options.sweep = args.sweep == "full"       ? bench::Sweep::kFull
-                       : args.sweep == "default"  ? bench::Sweep::kDefault
-                       : args.sweep == "suspects" ? bench::Sweep::kSuspects
+  args.options.sweep = args.sweep == "full"        ? bench::Sweep::kFull
+                       : args.sweep == "default"   ? bench::Sweep::kDefault
+                       : args.sweep == "suspects"  ? bench::Sweep::kSuspects
                        : args.sweep == "smoothing" ? bench::Sweep::kSmoothing
-                                                  : bench::Sweep::kShort;
+                                                   : bench::Sweep::kShort;
   std::string error;
   for (const std::string& entry : args.smoothing_grid) {
     tracking::SmoothingOptions s;

@@ -12,11 +12,11 @@
 
 #include "app/app_common.h"
 #include "app/app_options.h"
+#include "app/app_smoothing.h"
 #include "app/app_source.h"
 #include "app/app_video.h"
 #include "app/command.h"
 #include "tracking/pose_csv.h"
-#include "app/app_smoothing.h"
 #include "tracking/tracker.h"
 
 namespace ripple::app {

@@ -104,17 +104,16 @@ std::string SettingName(const tracking::TrackerOptions& o) {
       name += " smooth";
     } else {
       // The --smoothing-grid spelling of the setting.
-      std::snprintf(
-          buf, sizeof(buf),
-          " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%d",
-          p.min_cutoff_translation_hz, p.beta_translation_hz_per_m_s,
-          p.min_cutoff_rotation_hz, p.beta_rotation_hz_per_rad_s,
-          p.derivative_cutoff_hz, t.min_cutoff_rotation_hz,
-          t.beta_translation_hz_per_m_s, t.beta_rotation_hz_per_rad_s,
-          t.derivative_cutoff_hz, t.reset_rotation_deg,
-          1000 * t.reset_translation_m, p.reset_rotation_deg,
-          1000 * p.reset_translation_m,
-          o.smoothing.reset_when_ambiguous ? 1 : 0);
+      std::snprintf(buf, sizeof(buf),
+                    " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%d",
+                    p.min_cutoff_translation_hz, p.beta_translation_hz_per_m_s,
+                    p.min_cutoff_rotation_hz, p.beta_rotation_hz_per_rad_s,
+                    p.derivative_cutoff_hz, t.min_cutoff_rotation_hz,
+                    t.beta_translation_hz_per_m_s, t.beta_rotation_hz_per_rad_s,
+                    t.derivative_cutoff_hz, t.reset_rotation_deg,
+                    1000 * t.reset_translation_m, p.reset_rotation_deg,
+                    1000 * p.reset_translation_m,
+                    o.smoothing.reset_when_ambiguous ? 1 : 0);
       name += buf;
     }
   }
@@ -230,26 +229,23 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     o.smoothing.enabled = !defaults.smoothing.enabled;
     list.push_back(defaults);
     list.push_back(o);
-    if (!o.smoothing.enabled) o.smoothing.enabled = true;
-    // Pen: translation (min cut-off Hz, beta Hz per m/s), rotation (min
-    // cut-off Hz, beta Hz per rad/s); tank: min cut-off Hz.
-    struct Grid {
-      double t_hz, t_beta, r_hz, r_beta, tank_hz;
-    };
-    for (const Grid& g : std::vector<Grid>{{0.5, 100, 0.3, 1, 0.3},
-                                          {1.0, 50, 0.5, 2, 0.5},
-                                          {1.0, 200, 0.3, 1, 0.3},
-                                          {1.0, 400, 0.2, 1, 0.2},
-                                          {2.0, 400, 0.5, 2, 0.5},
-                                          {0.3, 200, 0.2, 0.5, 0.1}}) {
-      tracking::TrackerOptions g_o = o;
-      g_o.smoothing.pen.min_cutoff_translation_hz = g.t_hz;
-      g_o.smoothing.pen.beta_translation_hz_per_m_s = g.t_beta;
-      g_o.smoothing.pen.min_cutoff_rotation_hz = g.r_hz;
-      g_o.smoothing.pen.beta_rotation_hz_per_rad_s = g.r_beta;
-      g_o.smoothing.tank.min_cutoff_translation_hz = g.tank_hz;
-      g_o.smoothing.tank.min_cutoff_rotation_hz = g.tank_hz;
-      if (smoothing_grid.empty()) list.push_back(g_o);
+    // Without a grid: the default's parts one at a time (a looser tank
+    // reset bound, restarting the pen while ambiguous, no pen reset bound).
+    if (smoothing_grid.empty()) {
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.tank.reset_rotation_deg = 0.05;
+      o.smoothing.tank.reset_translation_m = 0.0003;
+      list.push_back(o);
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.reset_when_ambiguous = true;
+      list.push_back(o);
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.pen.reset_rotation_deg = 10;
+      o.smoothing.pen.reset_translation_m = 0.03;
+      list.push_back(o);
     }
     for (const tracking::SmoothingOptions& g : smoothing_grid) {
       tracking::TrackerOptions g_o = defaults;
@@ -647,8 +643,8 @@ void WriteTrackingFramesCsvRows(const std::string& size,
          << r.flip << ',' << r.pen_faces_visible << ',' << r.pen_face_px << ','
          << r.pen_status << ',' << r.pen_tags << ',' << r.pen_flip_rejected
          << ',' << r.pen_jumped << ',' << r.pen_ambiguous << ','
-         << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders
-         << ',' << r.is_static << '\n';
+         << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders << ','
+         << r.is_static << '\n';
 }
 
 }  // namespace ripple::bench

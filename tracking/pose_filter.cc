@@ -53,8 +53,12 @@ bool PoseFilterOptions::IsValid(std::string* error) const {
 
 Pose PoseFilter::Restart(const Pose& ref_from_object, double time_s) {
   const Eigen::Vector3d pivot = ref_from_object * pivot_in_object_;
-  state_ = State{ref_from_object.rotation, pivot, ref_from_object.rotation,
-                 pivot, Eigen::Matrix<double, 6, 1>::Zero(), time_s};
+  state_ = State{ref_from_object.rotation,
+                 pivot,
+                 ref_from_object.rotation,
+                 pivot,
+                 Eigen::Matrix<double, 6, 1>::Zero(),
+                 time_s};
   restarted_ = true;
   return ref_from_object;
 }
@@ -83,12 +87,12 @@ Pose PoseFilter::Filter(const Pose& ref_from_object, double time_s) {
     const double cutoff = min_cutoff_hz + beta * speed;
     return std::min(1.0 / (2.0 * M_PI * cutoff), options_.max_lag_s);
   };
-  const double tau_r = tau(options_.min_cutoff_rotation_hz,
-                           options_.beta_rotation_hz_per_rad_s,
-                           s.rate.head<3>().norm());
-  const double tau_t = tau(options_.min_cutoff_translation_hz,
-                           options_.beta_translation_hz_per_m_s,
-                           s.rate.tail<3>().norm());
+  const double tau_r =
+      tau(options_.min_cutoff_rotation_hz, options_.beta_rotation_hz_per_rad_s,
+          s.rate.head<3>().norm());
+  const double tau_t =
+      tau(options_.min_cutoff_translation_hz,
+          options_.beta_translation_hz_per_m_s, s.rate.tail<3>().norm());
   const Eigen::Vector3d offset_r = LowPassStep(
       Log(s.rotation * s.raw_rotation.conjugate()), step_r, tau_r, dt);
   const Eigen::Vector3d offset_t =

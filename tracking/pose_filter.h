@@ -76,7 +76,9 @@ class PoseFilter {
   bool restarted() const { return restarted_; }
   // The filtered speeds after the last sample: pivot (m/s), rotation
   // (rad/s); zero before the second sample.
-  double speed_m_s() const { return state_ ? state_->rate.tail<3>().norm() : 0; }
+  double speed_m_s() const {
+    return state_ ? state_->rate.tail<3>().norm() : 0;
+  }
   double speed_rad_s() const {
     return state_ ? state_->rate.head<3>().norm() : 0;
   }

@@ -60,8 +60,8 @@ PoseFilterOptions SmoothingOptions::DefaultTankFilter() {
   o.min_cutoff_rotation_hz = 1.0;
   o.beta_translation_hz_per_m_s = 0;
   o.beta_rotation_hz_per_rad_s = 0;
-  o.reset_rotation_deg = 0.05;
-  o.reset_translation_m = 0.0003;
+  o.reset_rotation_deg = 0.04;
+  o.reset_translation_m = 0.0002;
   return o;
 }
 

@@ -163,7 +163,7 @@ class Tracker {
     double last_seen_s = 0;
     bool ever_seen = false;
     PoseFilter filter;
-    bool filter_in_tank = false;  // pen: filtering tank_from_pen
+    bool filter_in_tank = false;   // pen: filtering tank_from_pen
     std::optional<Pose> lost_raw;  // last_raw when the object was lost
     // The other branch of an ambiguous view (pen only).
     PenHypotheses hypotheses;

@@ -10,8 +10,8 @@
 #include "tests/shipped_data.h"
 #include "tracking/camera.h"
 #include "tracking/rig.h"
-#include "tracking/tracker.h"
 #include "tracking/synth/synth.h"
+#include "tracking/tracker.h"
 
 namespace ripple::tracking {
 namespace {
@@ -105,10 +105,12 @@ TEST(PoseFilterTest, DefaultsSmoothAtRestNearTheirMinimumCutoff) {
       out += (p.translation - Eigen::Vector3d(0, 0, 0.4)).squaredNorm();
     }
     const double ratio = std::sqrt(out / raw);
-    const double floor = PredictedStdFactor(o.min_cutoff_translation_hz, 1 / fps);
-    std::printf("defaults at %g fps: std factor %.3f (minimum cut-off alone "
-                "%.3f)\n",
-                fps, ratio, floor);
+    const double floor =
+        PredictedStdFactor(o.min_cutoff_translation_hz, 1 / fps);
+    std::printf(
+        "defaults at %g fps: std factor %.3f (minimum cut-off alone "
+        "%.3f)\n",
+        fps, ratio, floor);
     EXPECT_GE(ratio, 0.95 * floor);
     EXPECT_LT(ratio, 1.6 * floor);
   }
@@ -175,8 +177,7 @@ TEST(PoseFilterTest, RestartsOnAJumpBeyondItsBounds) {
   EXPECT_LT(RotationDistance(out, flipped), 1e-12);
   // A small move is smoothed, not restarted.
   ASSERT_GT(o.reset_rotation_deg, 0.5);
-  const Pose nudged(Rot(Eigen::Vector3d(40.5 * kDeg, 0, 0)),
-                    moved.translation);
+  const Pose nudged(Rot(Eigen::Vector3d(40.5 * kDeg, 0, 0)), moved.translation);
   out = filter.Filter(nudged, 1.0 + 2 / 30.0);
   EXPECT_FALSE(filter.restarted());
   EXPECT_GT(RotationDistance(out, nudged), 0.05 * kDeg);
@@ -200,7 +201,7 @@ Pose Motion(double t) {
 }
 
 TEST(PoseFilterTest, SameMotionAt30And60FpsGivesTheSameOutput) {
-  PoseFilterOptions o;  // speed adaptation on
+  PoseFilterOptions o;        // speed adaptation on
   o.reset_rotation_deg = 90;  // never restarted by this motion
   o.reset_translation_m = 1;
   PoseFilter f30(o), f60(o);

@@ -543,9 +543,9 @@ TEST(TrackerTest, SmoothingDoesNotSmearAFastTurn) {
     // filter's reset bound): reported at once.
     Pose tank_from_pen = TankFromPen(0);
     if (f >= 6)
-      tank_from_pen.rotation =
-          Eigen::Quaterniond(Eigen::AngleAxisd(30 * kDeg, Eigen::Vector3d::UnitZ())) *
-          tank_from_pen.rotation;
+      tank_from_pen.rotation = Eigen::Quaterniond(Eigen::AngleAxisd(
+                                   30 * kDeg, Eigen::Vector3d::UnitZ())) *
+                               tank_from_pen.rotation;
     const auto dets = Concat(
         testing::ProjectDetections(camera, rig.tank_tags, cam_from_tank, 0.05,
                                    &rng),

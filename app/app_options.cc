@@ -16,6 +16,7 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_option("--gl", args->gl,
                   "GL backend: glfw (window), egl or osmesa (headless)");
   AddWaterOptions(sub, &args->water);
+  AddSmoothingOptions(sub, &args->smoothing);
   sub->add_flag("--no-caustics", args->no_caustics,
                 "Disable the caustics pass");
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
@@ -127,6 +128,8 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   }
   PipelineOptions& o = args->options;
   if (!ResolveWaterOptions(args->water, &o.water, &o.sim_cells_x, error))
+    return false;
+  if (!ApplySmoothingOptions(args->smoothing, &o.tracker.smoothing, error))
     return false;
   o.keep_push_radius = args->water.radius_m.given;
   o.backend = *backend;

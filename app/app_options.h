@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/app_pipeline.h"
+#include "app/app_smoothing.h"
 #include "app/app_water.h"
 #include "tracking/rig.h"
 
@@ -38,6 +39,7 @@ struct PipelineArgs {
   std::string reflection = "fold";  // --reflection fold | cubemap
   std::string shadows = "pcf";      // --shadows pcf | gauss | hard
   double shadow_sigma_texels = std::nan("");  // --shadow-sigma; NaN: default
+  SmoothingArgs smoothing;  // --smoothing and the filters' cut-offs
 };
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.

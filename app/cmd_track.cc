@@ -12,6 +12,7 @@
 
 #include "app/app_common.h"
 #include "app/app_options.h"
+#include "app/app_smoothing.h"
 #include "app/app_source.h"
 #include "app/app_video.h"
 #include "app/command.h"
@@ -99,7 +100,8 @@ struct TrackArgs {
   int threads = 1;
   std::string pen_mode = "joint";
   std::string face_selection = "uncertainty";
-  bool no_refine = false, no_roi = false, no_dense = false, smooth = false;
+  bool no_refine = false, no_roi = false, no_dense = false;
+  SmoothingArgs smoothing;
   double tank_hold_s = tracking::TrackerOptions{}.tank_hold_s;
   double pen_hold_s = tracking::TrackerOptions{}.pen_hold_s;
 };
@@ -119,10 +121,11 @@ int RunTrack(const TrackArgs& args) {
   options.pose.refine = !args.no_refine;
   options.pen_dense.enabled = !args.no_dense;
   options.roi.enabled = !args.no_roi;
-  options.smoothing.enabled = args.smooth;
   options.tank_hold_s = args.tank_hold_s;
   options.pen_hold_s = args.pen_hold_s;
   std::string error;
+  if (!ApplySmoothingOptions(args.smoothing, &options.smoothing, &error))
+    return Fail(kExitBadInput, error);
   if (!options.IsValid(&error)) return Fail(kExitBadInput, error);
 
   const double fps = args.fps > 0 ? args.fps : 30.0;
@@ -223,8 +226,7 @@ CommandAction SetupTrack(CLI::App* sub) {
   sub->add_flag("--no-roi", args->no_roi, "Search the full frame every time");
   sub->add_flag("--no-dense", args->no_dense,
                 "Skip the pen's dense photometric refinement");
-  sub->add_flag("--smooth", args->smooth,
-                "One Euro smoothing (at most one frame of lag)");
+  AddSmoothingOptions(sub, &args->smoothing);
   sub->add_option("--hold", args->tank_hold_s,
                   "Seconds an occluded board stays 'held'")
       ->capture_default_str()

@@ -43,7 +43,7 @@ struct Outcome {
 };
 
 std::string SettingName(const tracking::TrackerOptions& o) {
-  char buf[112];
+  char buf[320];
   std::snprintf(
       buf, sizeof(buf), "d%g %s%s%s %s%s", o.detector.quad_decimate,
       o.pen_mode == tracking::PenMode::kJoint ? "joint" : "best-face",
@@ -75,6 +75,48 @@ std::string SettingName(const tracking::TrackerOptions& o) {
   }
   if (o.pose.weight_by_view_angle != d.pose.weight_by_view_angle)
     name += o.pose.weight_by_view_angle ? " view-weights" : " no-view-weights";
+  if (o.smoothing.enabled != d.smoothing.enabled && !o.smoothing.enabled)
+    name += " no-smoothing";
+  if (o.smoothing.enabled) {
+    // Pen translation cut-off / beta, pen rotation cut-off / beta, tank
+    // cut-off, when not the defaults.
+    const auto& p = o.smoothing.pen;
+    const auto& t = o.smoothing.tank;
+    const auto& dp = d.smoothing.pen;
+    const auto& dt = d.smoothing.tank;
+    const bool same =
+        p.min_cutoff_translation_hz == dp.min_cutoff_translation_hz &&
+        p.beta_translation_hz_per_m_s == dp.beta_translation_hz_per_m_s &&
+        p.min_cutoff_rotation_hz == dp.min_cutoff_rotation_hz &&
+        p.beta_rotation_hz_per_rad_s == dp.beta_rotation_hz_per_rad_s &&
+        p.derivative_cutoff_hz == dp.derivative_cutoff_hz &&
+        t.min_cutoff_rotation_hz == dt.min_cutoff_rotation_hz &&
+        t.min_cutoff_translation_hz == dt.min_cutoff_translation_hz &&
+        t.beta_translation_hz_per_m_s == dt.beta_translation_hz_per_m_s &&
+        t.beta_rotation_hz_per_rad_s == dt.beta_rotation_hz_per_rad_s &&
+        t.derivative_cutoff_hz == dt.derivative_cutoff_hz &&
+        t.reset_rotation_deg == dt.reset_rotation_deg &&
+        t.reset_translation_m == dt.reset_translation_m &&
+        p.reset_rotation_deg == dp.reset_rotation_deg &&
+        p.reset_translation_m == dp.reset_translation_m &&
+        o.smoothing.reset_when_ambiguous == d.smoothing.reset_when_ambiguous;
+    if (same) {
+      name += " smooth";
+    } else {
+      // The --smoothing-grid spelling of the setting.
+      std::snprintf(buf, sizeof(buf),
+                    " smooth %g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%g/%d",
+                    p.min_cutoff_translation_hz, p.beta_translation_hz_per_m_s,
+                    p.min_cutoff_rotation_hz, p.beta_rotation_hz_per_rad_s,
+                    p.derivative_cutoff_hz, t.min_cutoff_rotation_hz,
+                    t.beta_translation_hz_per_m_s, t.beta_rotation_hz_per_rad_s,
+                    t.derivative_cutoff_hz, t.reset_rotation_deg,
+                    1000 * t.reset_translation_m, p.reset_rotation_deg,
+                    1000 * p.reset_translation_m,
+                    o.smoothing.reset_when_ambiguous ? 1 : 0);
+      name += buf;
+    }
+  }
   return name;
 }
 
@@ -91,7 +133,8 @@ bool IsDefault(const tracking::TrackerOptions& o) {
          o.detector.pixel_offset_px == defaults.detector.pixel_offset_px &&
          o.pose.loss == defaults.pose.loss &&
          o.pose.loss_scale_px == defaults.pose.loss_scale_px &&
-         o.pose.weight_by_view_angle == defaults.pose.weight_by_view_angle;
+         o.pose.weight_by_view_angle == defaults.pose.weight_by_view_angle &&
+         SettingName(o) == SettingName(defaults);
 }
 
 Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
@@ -123,12 +166,13 @@ Outcome RunBaseline(Baseline b, const tracking::Camera& camera,
   return o;
 }
 
-// Adds the frame's errors to the setting's samples and fills the error
-// fields of `row`.
+// Adds the frame's errors to the setting's samples (unless `row_only`) and
+// fills the error fields of `row`.
 void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
                 const synth::RenderedFrame& frame, const Outcome& o,
-                TrackingSetting* s, TrackingFrameRow* row) {
-  s->ms.push_back(o.ms);
+                TrackingSetting* s, TrackingFrameRow* row,
+                bool row_only = false) {
+  if (!row_only) s->ms.push_back(o.ms);
   TruthFrame truth;
   truth.frame = spec.index;
   truth.cam_from_tank = spec.scene.cam_from_tank;
@@ -145,7 +189,9 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
     if (o.tank && o.pen)
       estimate.tip_in_tank = o.tank->Inverse() * (*o.pen * rig.pen->tip_in_pen);
   }
-  const FrameErrors e = s->errors.Add(truth, estimate);
+  const FrameErrors e =
+      row_only ? ComputeFrameErrors(PoseErrorOptions{}, truth, estimate)
+               : s->errors.Add(truth, estimate);
   row->tank_rot_deg = e.tank_rot_deg;
   row->pen_rot_deg = e.pen_rot_deg;
   row->tip_mm = e.tip_mm;
@@ -159,7 +205,8 @@ bool TrackingSetting::is_default() const {
 }
 
 std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
-    Sweep sweep, int threads) {
+    Sweep sweep, int threads,
+    const std::vector<tracking::SmoothingOptions>& smoothing_grid) {
   const tracking::TrackerOptions defaults;
   std::vector<tracking::TrackerOptions> list;
   if (sweep == Sweep::kFull) {
@@ -177,6 +224,34 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
           }
   } else if (sweep == Sweep::kDefault) {
     list.push_back(defaults);
+  } else if (sweep == Sweep::kSmoothing) {
+    tracking::TrackerOptions o = defaults;
+    o.smoothing.enabled = !defaults.smoothing.enabled;
+    list.push_back(defaults);
+    list.push_back(o);
+    // Without a grid: the default's parts one at a time (a looser tank
+    // reset bound, restarting the pen while ambiguous, no pen reset bound).
+    if (smoothing_grid.empty()) {
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.tank.reset_rotation_deg = 0.05;
+      o.smoothing.tank.reset_translation_m = 0.0003;
+      list.push_back(o);
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.reset_when_ambiguous = true;
+      list.push_back(o);
+      o = defaults;
+      o.smoothing.enabled = true;
+      o.smoothing.pen.reset_rotation_deg = 10;
+      o.smoothing.pen.reset_translation_m = 0.03;
+      list.push_back(o);
+    }
+    for (const tracking::SmoothingOptions& g : smoothing_grid) {
+      tracking::TrackerOptions g_o = defaults;
+      g_o.smoothing = g;
+      list.push_back(g_o);
+    }
   } else if (sweep == Sweep::kSuspects) {
     list.push_back(defaults);
     tracking::TrackerOptions o = defaults;
@@ -247,11 +322,12 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     s->plain_decimate = plain_decimate;
     settings.push_back(std::move(s));
   };
-  if (sweep != Sweep::kSuspects) {
+  if (sweep != Sweep::kSuspects && sweep != Sweep::kSmoothing) {
     add(Baseline::kPaper, "paper: frontal face, estimate_tag_pose", 2);
     add(Baseline::kIppe, "opencv IPPE_SQUARE, best-posed face", 2);
   }
-  add(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners", 2);
+  if (sweep != Sweep::kSmoothing)
+    add(Baseline::kSqpnpLm, "opencv SQPNP+LM, all corners", 2);
   add(Baseline::kPlainSqpnpLm,
       "plain: SQPNP+LM on apriltag corners -0.5 px, d2", 2);
   add(Baseline::kPlainSqpnpLm,
@@ -279,14 +355,15 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   if (options.static_frames > 0) {
     seq.preset = "static";
     seq.frames = options.static_frames;
-    seq.segment_frames = 30;
+    seq.segment_frames = options.static_segment_frames;
     seq.seed = options.seed + 1000;
     if (!synth::MakeSequence(camera, rig, seq, &still, error)) return false;
   }
   for (auto* list : {&specs, &still})
     for (synth::FrameSpec& f : *list) synth::ApplyVariant(variant, &f.imaging);
   synth::SceneRenderer renderer(camera, rig, options.floor, variant.formation);
-  result->settings = MakeTrackingSettings(options.sweep, options.threads);
+  result->settings = MakeTrackingSettings(options.sweep, options.threads,
+                                          options.smoothing_grid);
   auto& settings = result->settings;
   // Every detector decodes the frames as the variant's camera file says,
   // as `ripple track` does (the plain baseline's libapriltag corners do not
@@ -446,7 +523,12 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
         o.pen_ambiguous = r.pen.ambiguous;
         pen_status = tracking::ToString(r.pen.status);
       }
+      TrackingFrameRow row;
       if (is_static) {
+        if (keep_frame_rows) {
+          Accumulate(rig, spec, frame, o, s, &row, true);
+          row.is_static = true;
+        }
         StaticSamples& st = samples[si];
         if (o.tank && o.tank_tracked) st.tank.push_back(*o.tank);
         if (o.pen && o.pen_tracked) {
@@ -455,10 +537,9 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
             st.tip.push_back(o.tank->Inverse() *
                              (*o.pen * rig.pen->tip_in_pen));
         }
-        continue;
+      } else {
+        Accumulate(rig, spec, frame, o, s, &row);
       }
-      TrackingFrameRow row;
-      Accumulate(rig, spec, frame, o, s, &row);
       if (!keep_frame_rows) continue;
       row.frame = spec.index;
       row.setting = s->name;
@@ -473,6 +554,9 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
       row.pen_flip_rejected = o.pen_flip_rejected;
       row.pen_jumped = o.pen_jumped;
       row.pen_ambiguous = o.pen_ambiguous;
+      row.motion_blur_px = spec.imaging.motion_blur_px;
+      row.defocus_px = spec.imaging.defocus_sigma_px;
+      row.occluders = static_cast<int>(spec.scene.occluders.size());
       result->frame_rows.push_back(std::move(row));
     }
     if (++done % 50 == 0 && progress) progress(done, total_frames);
@@ -480,7 +564,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
   for (const synth::FrameSpec& spec : specs)
     if (spec.index >= options.first) run_frame(spec, false);
   for (size_t i = 0; i < still.size(); ++i) {
-    if (i % 30 == 0) {
+    if (i % options.static_segment_frames == 0) {
       if (i > 0) close_segment();
       make_trackers();  // each static segment starts afresh
     }
@@ -546,7 +630,8 @@ void WriteTrackingCsvRows(const TrackingBenchOptions& options,
 void WriteTrackingFramesCsvHeader(std::ostream* csv) {
   *csv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,flip,"
           "pen_faces_visible,pen_face_px,pen_status,pen_tags,"
-          "pen_flip_rejected,pen_jumped,pen_ambiguous\n";
+          "pen_flip_rejected,pen_jumped,pen_ambiguous,motion_blur_px,"
+          "defocus_px,occluders,static\n";
 }
 
 void WriteTrackingFramesCsvRows(const std::string& size,
@@ -557,7 +642,9 @@ void WriteTrackingFramesCsvRows(const std::string& size,
          << r.tank_rot_deg << ',' << r.pen_rot_deg << ',' << r.tip_mm << ','
          << r.flip << ',' << r.pen_faces_visible << ',' << r.pen_face_px << ','
          << r.pen_status << ',' << r.pen_tags << ',' << r.pen_flip_rejected
-         << ',' << r.pen_jumped << ',' << r.pen_ambiguous << '\n';
+         << ',' << r.pen_jumped << ',' << r.pen_ambiguous << ','
+         << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders << ','
+         << r.is_static << '\n';
 }
 
 }  // namespace ripple::bench

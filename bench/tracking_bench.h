@@ -46,6 +46,8 @@ enum class Sweep {
   // no edge re-fit, no outward edge shift, other loss scales, no view-angle
   // weights, no dense refinement; with the plain baselines.
   kSuspects,
+  // Smoothing off against the default smoothing and a grid around it.
+  kSmoothing,
 };
 
 // One setting under test and its per-frame samples.
@@ -66,8 +68,11 @@ struct TrackingSetting {
 };
 
 // The settings of `sweep` (trackers not yet built), detector threads set.
-std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(Sweep sweep,
-                                                                   int threads);
+// `smoothing_grid` replaces the smoothing sweep's built-in grid when not
+// empty.
+std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
+    Sweep sweep, int threads,
+    const std::vector<tracking::SmoothingOptions>& smoothing_grid = {});
 
 struct TrackingBenchOptions {
   Sweep sweep = Sweep::kShort;
@@ -84,6 +89,10 @@ struct TrackingBenchOptions {
   // the noise changing) tracked after the benchmark frames for the jitter
   // columns, each segment by fresh trackers; 0: none.
   int static_frames = 0;
+  int static_segment_frames = 30;  // frames per static segment
+  // Sweep::kSmoothing: the smoothing settings tried beside off and the
+  // default (empty: a built-in grid).
+  std::vector<tracking::SmoothingOptions> smoothing_grid;
 };
 
 // Per-frame errors of one setting: a row of the frames CSV.
@@ -97,6 +106,11 @@ struct TrackingFrameRow {
   std::string pen_status;     // tracker's, empty for baselines
   std::string pen_tags;       // faces used, '+'-separated
   bool pen_flip_rejected = false, pen_jumped = false, pen_ambiguous = false;
+  // The frame's imaging (ground truth): motion blur and defocus (pixels),
+  // occluders in the scene.
+  double motion_blur_px = 0, defocus_px = 0;
+  int occluders = 0;
+  bool is_static = false;  // a frame of the static sequence (jitter only)
 };
 
 struct TrackingBenchResult {

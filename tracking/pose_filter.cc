@@ -6,59 +6,106 @@
 namespace ripple::tracking {
 namespace {
 
-double Alpha(double cutoff_hz, double dt_s) {
-  const double tau = 1.0 / (2.0 * M_PI * cutoff_hz);
-  return 1.0 / (1.0 + tau / dt_s);
+constexpr double kDegToRad = M_PI / 180.0;
+
+// Rotation vector of `q` (rad), the shorter way round.
+Eigen::Vector3d Log(const Eigen::Quaterniond& q) {
+  Eigen::AngleAxisd aa(q.w() < 0 ? Eigen::Quaterniond(-q.coeffs()) : q);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Quaterniond Exp(const Eigen::Vector3d& v) {
+  const double angle = v.norm();
+  if (angle < 1e-15) return Eigen::Quaterniond::Identity();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, v / angle));
 }
 
 }  // namespace
+
+double LowPassAlpha(double cutoff_hz, double dt_s) {
+  return 1.0 - std::exp(-2.0 * M_PI * cutoff_hz * dt_s);
+}
+
+Eigen::Vector3d LowPassStep(const Eigen::Vector3d& offset_prev,
+                            const Eigen::Vector3d& input_step, double tau_s,
+                            double dt_s) {
+  // x(t) = z(t) - s tau + (x0 - z0 + s tau) exp(-t / tau) for z(t) = z0 + s t.
+  const double q = std::exp(-dt_s / tau_s);
+  return q * offset_prev - (tau_s / dt_s) * (1.0 - q) * input_step;
+}
 
 bool PoseFilterOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
     if (error) *error = what;
     return false;
   };
-  if (!(min_cutoff_hz > 0)) return fail("min_cutoff_hz must be positive");
-  if (!(beta_translation >= 0 && beta_rotation >= 0))
-    return fail("beta must be >= 0");
+  if (!(min_cutoff_translation_hz > 0 && min_cutoff_rotation_hz > 0))
+    return fail("smoothing min cut-offs must be positive (Hz)");
+  if (!(beta_translation_hz_per_m_s >= 0 && beta_rotation_hz_per_rad_s >= 0))
+    return fail("smoothing betas must be >= 0");
   if (!(derivative_cutoff_hz > 0))
-    return fail("derivative_cutoff_hz must be positive");
-  if (!(max_lag_frames > 0)) return fail("max_lag_frames must be positive");
+    return fail("smoothing derivative cut-off must be positive (Hz)");
+  if (!(max_lag_s > 0)) return fail("smoothing max lag must be positive (s)");
+  if (!(reset_translation_m > 0 && reset_rotation_deg > 0))
+    return fail("smoothing reset bounds must be positive");
   return true;
 }
 
-Pose PoseFilter::Filter(const Pose& pose, double time_s) {
-  if (!options_.enabled) return pose;
-  if (!state_ || !(time_s > state_->time_s)) {
-    state_ = State{pose, Eigen::Matrix<double, 6, 1>::Zero(), time_s};
-    return pose;
-  }
+Pose PoseFilter::Restart(const Pose& ref_from_object, double time_s) {
+  const Eigen::Vector3d pivot = ref_from_object * pivot_in_object_;
+  state_ = State{ref_from_object.rotation,
+                 pivot,
+                 ref_from_object.rotation,
+                 pivot,
+                 Eigen::Matrix<double, 6, 1>::Zero(),
+                 time_s};
+  restarted_ = true;
+  return ref_from_object;
+}
+
+Pose PoseFilter::Filter(const Pose& ref_from_object, double time_s) {
+  if (!state_ || !(time_s > state_->time_s))
+    return Restart(ref_from_object, time_s);
   State& s = *state_;
   const double dt = time_s - s.time_s;
-  // Innovation: rotation vector (camera frame) and translation difference.
-  const Eigen::AngleAxisd aa(pose.rotation * s.pose.rotation.conjugate());
-  Eigen::Vector3d omega = aa.angle() * aa.axis();
-  if (aa.angle() > M_PI) omega = (aa.angle() - 2 * M_PI) * aa.axis();
-  const Eigen::Vector3d dtrans = pose.translation - s.pose.translation;
+  const Eigen::Quaterniond& z_rotation = ref_from_object.rotation;
+  const Eigen::Vector3d z_pivot = ref_from_object * pivot_in_object_;
+  // A jump away from the filtered pose restarts.
+  if (Log(z_rotation * s.rotation.conjugate()).norm() >
+          options_.reset_rotation_deg * kDegToRad ||
+      (z_pivot - s.pivot).norm() > options_.reset_translation_m)
+    return Restart(ref_from_object, time_s);
+  restarted_ = false;
+  // The measurement's step since the last one: rotation vector (reference
+  // frame) and pivot displacement.
+  const Eigen::Vector3d step_r = Log(z_rotation * s.raw_rotation.conjugate());
+  const Eigen::Vector3d step_t = z_pivot - s.raw_pivot;
   Eigen::Matrix<double, 6, 1> rate;
-  rate << omega / dt, dtrans / dt;
-  const double a_d = Alpha(options_.derivative_cutoff_hz, dt);
-  s.rate += a_d * (rate - s.rate);
-  const double min_alpha = 1.0 / (1.0 + options_.max_lag_frames);
-  const double cutoff_r =
-      options_.min_cutoff_hz + options_.beta_rotation * s.rate.head<3>().norm();
-  const double cutoff_t = options_.min_cutoff_hz +
-                          options_.beta_translation * s.rate.tail<3>().norm();
-  const double a_r = std::max(min_alpha, Alpha(cutoff_r, dt));
-  const double a_t = std::max(min_alpha, Alpha(cutoff_t, dt));
-  const Eigen::Vector3d step = a_r * omega;
-  Eigen::Quaterniond dq = Eigen::Quaterniond::Identity();
-  if (step.norm() > 1e-15)
-    dq = Eigen::Quaterniond(Eigen::AngleAxisd(step.norm(), step.normalized()));
-  s.pose.rotation = (dq * s.pose.rotation).normalized();
-  s.pose.translation += a_t * dtrans;
+  rate << step_r / dt, step_t / dt;
+  s.rate += LowPassAlpha(options_.derivative_cutoff_hz, dt) * (rate - s.rate);
+  auto tau = [&](double min_cutoff_hz, double beta, double speed) {
+    const double cutoff = min_cutoff_hz + beta * speed;
+    return std::min(1.0 / (2.0 * M_PI * cutoff), options_.max_lag_s);
+  };
+  const double tau_r =
+      tau(options_.min_cutoff_rotation_hz, options_.beta_rotation_hz_per_rad_s,
+          s.rate.head<3>().norm());
+  const double tau_t =
+      tau(options_.min_cutoff_translation_hz,
+          options_.beta_translation_hz_per_m_s, s.rate.tail<3>().norm());
+  const Eigen::Vector3d offset_r = LowPassStep(
+      Log(s.rotation * s.raw_rotation.conjugate()), step_r, tau_r, dt);
+  const Eigen::Vector3d offset_t =
+      LowPassStep(s.pivot - s.raw_pivot, step_t, tau_t, dt);
+  s.rotation = (Exp(offset_r) * z_rotation).normalized();
+  s.pivot = z_pivot + offset_t;
+  s.raw_rotation = z_rotation;
+  s.raw_pivot = z_pivot;
   s.time_s = time_s;
-  return s.pose;
+  Pose out;
+  out.rotation = s.rotation;
+  out.translation = s.pivot - s.rotation * pivot_in_object_;
+  return out;
 }
 
 }  // namespace ripple::tracking

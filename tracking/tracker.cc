@@ -50,6 +50,48 @@ std::optional<FaceSelection> ParseFaceSelection(const std::string& s) {
   return std::nullopt;
 }
 
+// Chosen on `ripple bench tracking --sweep smoothing` (docs/tracking.md).
+PoseFilterOptions SmoothingOptions::DefaultTankFilter() {
+  PoseFilterOptions o;
+  // The board rests while the camera may move: no speed adaptation, a plain
+  // 1 Hz low-pass that restarts as soon as the measurement leaves the
+  // noise (the tank's static jitter is 0.014-0.027 degrees).
+  o.min_cutoff_translation_hz = 1.0;
+  o.min_cutoff_rotation_hz = 1.0;
+  o.beta_translation_hz_per_m_s = 0;
+  o.beta_rotation_hz_per_rad_s = 0;
+  o.reset_rotation_deg = 0.04;
+  o.reset_translation_m = 0.0002;
+  return o;
+}
+
+PoseFilterOptions SmoothingOptions::DefaultPenFilter() {
+  PoseFilterOptions o;
+  o.min_cutoff_translation_hz = 1.0;
+  o.beta_translation_hz_per_m_s = 100.0;
+  o.min_cutoff_rotation_hz = 0.5;
+  o.beta_rotation_hz_per_rad_s = 10.0;
+  // A tip that moves more than 1 mm (or turns 1 degree) from the filtered
+  // pose in one frame is followed at once: the filter smooths a pen at rest
+  // or creeping, never a stroke.
+  o.reset_rotation_deg = 1.0;
+  o.reset_translation_m = 0.001;
+  return o;
+}
+
+bool SmoothingOptions::IsValid(std::string* error) const {
+  std::string what;
+  if (!tank.IsValid(&what)) {
+    if (error) *error = "tank " + what;
+    return false;
+  }
+  if (!pen.IsValid(&what)) {
+    if (error) *error = "pen " + what;
+    return false;
+  }
+  return true;
+}
+
 bool TrackerOptions::IsValid(std::string* error) const {
   auto fail = [&](const std::string& what) {
     if (error) *error = what;
@@ -62,6 +104,11 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!pen_hypotheses.IsValid(error)) return false;
   if (!roi.IsValid(error)) return false;
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
+  if (!smoothing.reset_when_ambiguous &&
+      smoothing.pen.reset_rotation_deg > flip_angle_deg)
+    return fail(
+        "smoothing an ambiguous pen needs its reset bound within "
+        "flip_angle_deg");
   if (!(flip_angle_deg > 0 && flip_angle_deg < 180))
     return fail("flip_angle_deg must be in (0, 180)");
   if (!(ambiguity_margin_px >= 0))
@@ -100,8 +147,9 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
 void Tracker::Reset() {
   tank_ = ObjectState{};
   pen_ = ObjectState{};
-  tank_.filter = PoseFilter(options_.smoothing);
-  pen_.filter = PoseFilter(options_.smoothing);
+  tank_.filter = PoseFilter(options_.smoothing.tank);
+  if (rig_.pen)
+    pen_.filter = PoseFilter(options_.smoothing.pen, rig_.pen->tip_in_pen);
   roi_search_.Reset();
   frame_ = 0;
   last_corners_.clear();
@@ -273,6 +321,7 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
 
 void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
                            double time_s, bool cut, double hold_s,
+                           const std::pair<Pose, Pose>* tank_now,
                            ObjectState* state, ObjectTrack* out) {
   *out = ObjectTrack{};
   if (estimate) {
@@ -288,8 +337,27 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
     state->last_raw = estimate->pose.cam_from_object;
     state->lost_raw.reset();
     state->hypotheses = estimate->hypotheses;
-    out->cam_from_object =
-        state->filter.Filter(estimate->pose.cam_from_object, time_s);
+    const Pose& raw = estimate->pose.cam_from_object;
+    if (!options_.smoothing.enabled) {
+      out->cam_from_object = raw;
+    } else {
+      const bool in_tank = tank_now != nullptr;
+      const bool reset_ambiguous =
+          out->ambiguous && options_.smoothing.reset_when_ambiguous;
+      if (reset_ambiguous || out->jumped || in_tank != state->filter_in_tank)
+        state->filter.Reset();
+      state->filter_in_tank = in_tank;
+      if (in_tank) {
+        out->cam_from_object =
+            tank_now->second *
+            state->filter.Filter(tank_now->first.Inverse() * raw, time_s);
+      } else {
+        out->cam_from_object = state->filter.Filter(raw, time_s);
+      }
+      // While ambiguous the pose may switch branch: the next frame starts
+      // afresh.
+      if (reset_ambiguous) state->filter.Reset();
+    }
     state->last_output = out->cam_from_object;
     state->last_seen_s = time_s;
     state->ever_seen = true;
@@ -320,8 +388,8 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
   const auto tank_obs = MatchObservations(camera_, rig_.tank_tags, detections);
   std::optional<Estimate> tank_estimate;
   if (!tank_obs.empty()) tank_estimate = EstimateTank(tank_obs, use_prior);
-  UpdateObject(tank_estimate, time_s, r.cut, options_.tank_hold_s, &tank_,
-               &r.tank);
+  UpdateObject(tank_estimate, time_s, r.cut, options_.tank_hold_s, nullptr,
+               &tank_, &r.tank);
   if (rig_.pen) {
     const auto pen_obs =
         MatchObservations(camera_, rig_.pen->faces, detections);
@@ -351,8 +419,11 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
           camera_, pen_obs, pen_estimate->pose.cam_from_object, &corners);
       pen_estimate->pose.rmse_px = std::sqrt(sse / std::max(corners, 1));
     }
-    UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s, &pen_,
-                 &r.pen);
+    std::optional<std::pair<Pose, Pose>> tank_now;
+    if (r.tank.status == TrackStatus::kTracked)
+      tank_now.emplace(*tank_.last_raw, *r.tank.cam_from_object);
+    UpdateObject(pen_estimate, time_s, r.cut, options_.pen_hold_s,
+                 tank_now ? &*tank_now : nullptr, &pen_, &r.pen);
     if (r.tank.has_pose() && r.pen.has_pose()) {
       r.tip_in_tank = r.tank.cam_from_object->Inverse() *
                       (*r.pen.cam_from_object * rig_.pen->tip_in_pen);
@@ -387,10 +458,10 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     gray = &gray_;
   }
   std::vector<RoiObject> objects = {
-      {tank_.last_output ? &*tank_.last_output : nullptr, &rig_.tank_tags}};
+      {tank_.last_raw ? &*tank_.last_raw : nullptr, &rig_.tank_tags}};
   if (rig_.pen)
     objects.push_back(
-        {pen_.last_output ? &*pen_.last_output : nullptr, &rig_.pen->faces});
+        {pen_.last_raw ? &*pen_.last_raw : nullptr, &rig_.pen->faces});
   bool full = true;
   const std::vector<TagDetection> detections =
       roi_search_.Detect(&detector_, *gray, camera_, objects, &full);

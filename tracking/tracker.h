@@ -21,6 +21,7 @@
 #include <opencv2/core.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "tracking/camera.h"
@@ -55,6 +56,26 @@ const char* ToString(FaceSelection selection);
 std::optional<PenMode> ParsePenMode(const std::string& s);  // joint, best-face
 std::optional<FaceSelection> ParseFaceSelection(
     const std::string& s);  // uncertainty, frontal
+
+// One Euro smoothing of the reported poses. The tank is filtered in the
+// camera frame; the pen relative to the tank (its tip the filtered point)
+// while the tank is tracked, so that the tank's filter never lags the tip,
+// and in the camera frame otherwise. A filter restarts on a cut, a loss, a
+// taken jump, when the pen's reference frame changes, on a jump beyond its
+// reset bounds, and (reset_when_ambiguous) while the pen is ambiguous.
+struct SmoothingOptions {
+  bool enabled = true;
+  // Restart the pen's filter on every frame where it is ambiguous. Without
+  // it a switch of branch still restarts it: the branches are more than
+  // flip_angle_deg apart, beyond the pen filter's reset_rotation_deg.
+  bool reset_when_ambiguous = false;
+  PoseFilterOptions tank = DefaultTankFilter();
+  PoseFilterOptions pen = DefaultPenFilter();
+
+  static PoseFilterOptions DefaultTankFilter();
+  static PoseFilterOptions DefaultPenFilter();
+  bool IsValid(std::string* error) const;
+};
 
 struct TrackerOptions {
   // The family is taken from the rig; this one is ignored.
@@ -98,7 +119,8 @@ struct TrackerOptions {
   // (tracking/roi_search.h).
   RoiSearchOptions roi;
 
-  PoseFilterOptions smoothing;  // disabled by default
+  // Temporal smoothing of the reported poses (tracking/pose_filter.h).
+  SmoothingOptions smoothing;
 
   // Dense photometric refinement of the pen's pose over its faces' known
   // look (tracking/dense_refine.h), after the corner-based estimate. Needs
@@ -141,6 +163,7 @@ class Tracker {
     double last_seen_s = 0;
     bool ever_seen = false;
     PoseFilter filter;
+    bool filter_in_tank = false;   // pen: filtering tank_from_pen
     std::optional<Pose> lost_raw;  // last_raw when the object was lost
     // The other branch of an ambiguous view (pen only).
     PenHypotheses hypotheses;
@@ -170,8 +193,12 @@ class Tracker {
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
                                     const ObjectPose& estimate,
                                     const std::optional<Pose>& prior) const;
+  // `tank_now`: for the pen, this frame's raw and reported cam_from_tank
+  // when the tank was tracked in it (the pen is then filtered relative to
+  // it); null for the tank.
   void UpdateObject(const std::optional<Estimate>& estimate, double time_s,
-                    bool cut, double hold_s, ObjectState* state,
+                    bool cut, double hold_s,
+                    const std::pair<Pose, Pose>* tank_now, ObjectState* state,
                     ObjectTrack* out);
   FrameResult Update(const std::vector<TagDetection>& detections, double time_s,
                      const cv::Mat* gray);

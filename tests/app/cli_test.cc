@@ -56,6 +56,23 @@ TEST(CliTest, MalformedSizesAndPatternsAreUsageErrors) {
   }
 }
 
+TEST(CliTest, BadSmoothingOptionsExitCode2) {
+  EXPECT_EQ(RunRipple("track --input x --out y --smoothing maybe").exit_code,
+            2);
+  for (const std::string option :
+       {"--smooth-pen-hz -1", "--smooth-pen-rot-hz 0", "--smooth-tank-hz -2",
+        "--smooth-max-lag 0", "--smooth-pen-beta -1"}) {
+    const auto r = RunRipple("track --input x --out y " + option);
+    EXPECT_EQ(r.exit_code, 2) << option;
+    EXPECT_THAT(r.output, HasSubstr(option.substr(0, option.find(' '))))
+        << option;
+  }
+  const auto r =
+      RunRipple("bench tracking --sweep smoothing --smoothing-grid 1/2/3");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_THAT(r.output, HasSubstr("--smoothing-grid"));
+}
+
 TEST(CliTest, BadFilesGiveOneLineAndExitCode2) {
   const std::string dir = Temp("bad");
   std::filesystem::create_directories(dir);

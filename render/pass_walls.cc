@@ -12,12 +12,19 @@ bool WallsPass::Create(const Options& options, std::string* error) {
   if (options.env_cube) defines += "#define ENV_CUBE 1\n";
   if (options.sky) defines += "#define SKY 1\n";
   if (!BuildProgram(&programs_[0], "walls", "walls.vert", "walls.frag", defines,
-                    error) ||
-      !BuildProgram(&programs_[1], "front walls", "walls.vert", "walls.frag",
-                    defines + "#define FRONT_WALL 1\n", error)) {
+                    error)) {
     return false;
   }
-  for (int i = 0; i < 2; ++i) {
+  for (int v = 0; v < 4; ++v) {
+    std::string front = defines + "#define FRONT_WALL 1\n";
+    if (v & 1) front += "#define SHADOWS 1\n";
+    if (v & 2) front += "#define CAUSTICS 1\n";
+    if (!BuildProgram(&programs_[1 + v], "front walls", "walls.vert",
+                      "walls.frag", front, error)) {
+      return false;
+    }
+  }
+  for (int i = 0; i < kPrograms; ++i) {
     common_[i].Resolve(programs_[i]);  // leaves it bound
     SetUniform(programs_[i].Uniform("u_sigma"),
                options.optics.absorption_per_m);
@@ -28,7 +35,6 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     floor_sky_[i] = programs_[i].Uniform("u_floor_sky");
     floor_sun_[i] = programs_[i].Uniform("u_floor_sun");
     inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
-    caustics_on_[i] = programs_[i].Uniform("u_caustics_on");
     z_range_[i] = programs_[i].Uniform("u_z_range");
     return_tint_[i] = programs_[i].Uniform("u_return_tint");
   }
@@ -56,22 +62,24 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   // there.
   const float split =
       std::min(t.wall_height, t.water_level + kFrontWallMargin_m);
+  const Effects& fx = f.scene->effects;
+  const int front_program = 1 + (fx.shadows ? 1 : 0) + (fx.caustics ? 2 : 0);
   for (int pass = 0; pass < 2; ++pass) {
-    common_[pass].Set(programs_[pass], f, f.clip_from_tank);
-    SetUniform(floor_sky_[pass], f.shading.floor_sky);
-    SetUniform(floor_sun_[pass], f.shading.floor_sun);
-    glUniform1f(inv_n2_[pass], f.shading.inv_n2);
-    SetUniform(return_tint_[pass], return_tint);
-    glUniform1f(caustics_on_[pass], f.scene->effects.caustics ? 1.f : 0.f);
+    const int p = pass == 0 ? 0 : front_program;
+    common_[p].Set(programs_[p], f, f.clip_from_tank);
+    SetUniform(floor_sky_[p], f.shading.floor_sky);
+    SetUniform(floor_sun_[p], f.shading.floor_sun);
+    glUniform1f(inv_n2_[p], f.shading.inv_n2);
+    SetUniform(return_tint_[p], return_tint);
     for (int i = 0; i < 4; ++i) {
       const bool front = outside[i] > 0;
       if (pass == 1 && !front) continue;
       if (pass == 0 && front) {
-        glUniform2f(z_range_[pass], split, t.wall_height);
+        glUniform2f(z_range_[p], split, t.wall_height);
       } else if (pass == 1) {
-        glUniform2f(z_range_[pass], 0.0f, split);
+        glUniform2f(z_range_[p], 0.0f, split);
       } else {
-        glUniform2f(z_range_[pass], 0.0f, t.wall_height);
+        glUniform2f(z_range_[p], 0.0f, t.wall_height);
       }
       glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }

@@ -34,11 +34,14 @@ class WallsPass {
             const glm::vec3& return_tint);
 
  private:
-  Program programs_[2];  // far walls, front walls
-  CommonUniforms common_[2];
-  GLint floor_sky_[2] = {-1, -1}, floor_sun_[2] = {-1, -1},
-        inv_n2_[2] = {-1, -1}, caustics_on_[2] = {-1, -1},
-        z_range_[2] = {-1, -1}, return_tint_[2] = {-1, -1};
+  // Far walls, then the front walls' variants: + 1 with shadows, + 2 with
+  // caustics (the floor seen through the glass reads their maps).
+  static constexpr int kPrograms = 5;
+  Program programs_[kPrograms];
+  CommonUniforms common_[kPrograms];
+  GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
+        inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
+        return_tint_[kPrograms] = {};
   // Height above the rest level up to which front walls take the
   // FRONT_WALL program (waves rarely rise higher at the glass).
   static constexpr float kFrontWallMargin_m = 0.006f;

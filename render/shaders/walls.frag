@@ -28,7 +28,6 @@ uniform sampler2D u_scene;
 uniform sampler2D u_receiver;
 uniform sampler2D u_floor_return;  // as in water.frag
 uniform vec3 u_return_tint;
-uniform float u_caustics_on;
 uniform vec3 u_floor_sky;
 uniform vec3 u_floor_sun;
 uniform float u_inv_n2;
@@ -37,8 +36,14 @@ uniform float u_inv_n2;
 // water: as in water.frag.
 vec3 FloorUnderWater(vec3 f, vec3 video) {
   vec2 uv = f.xy / u_tank.xy + 0.5;
-  float lit = mix(1.0, textureLod(u_receiver, uv, 0.0).r, u_shadow_on) *
-              mix(1.0, textureLod(u_caustics, uv, 0.0).r, u_caustics_on);
+  // Compile-time, as in water.frag (llvmpipe would fetch either way).
+  float lit = 1.0;
+#ifdef SHADOWS
+  lit *= textureLod(u_receiver, uv, 0.0).r;
+#endif
+#ifdef CAUSTICS
+  lit *= textureLod(u_caustics, uv, 0.0).r;
+#endif
   vec4 back = textureLod(u_floor_return, uv, 0.0);
   vec3 light = u_floor_sky + u_floor_sun * lit + back.rgb;
   vec3 returned = back.a * u_return_tint;

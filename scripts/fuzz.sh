@@ -23,8 +23,6 @@ readers=("$@")
 BIN=$ROOT/build-asan/tests/fuzz
 WORK=$ROOT/build-asan/fuzz
 source scripts/sanitizer/env.sh
-# The readers never load a GL driver: the fast unwinder (more runs a second).
-ASAN_OPTIONS=${ASAN_OPTIONS/:fast_unwind_on_malloc=0/}
 
 # Seeds: the shipped files, a short synthetic recording, the hostile inputs
 # (those under 64 KB: libFuzzer mutates small inputs best).

@@ -4,8 +4,6 @@
 // RIPPLE_EGL_PLATFORM=surfaceless|device overrides the choice.
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
-#include <dlfcn.h>
-#include <link.h>
 
 #include <cstdlib>
 #include <cstring>
@@ -16,28 +14,6 @@
 
 namespace ripple::render::internal {
 namespace {
-
-// Keeps the DRI driver that eglInitialize loaded (Mesa's swrast_dri.so for
-// llvmpipe) mapped until the process exits. eglTerminate unloads it, and
-// the driver's one-time initialisation keeps a small allocation that only
-// the driver's own globals point to: each unload leaks it, and the next
-// eglInitialize loads the driver and allocates it again. LeakSanitizer
-// reports that allocation at exit from an unloaded module, which no
-// suppression can name (docs/reliability.md, "Sanitizer build"). A second
-// reference with RTLD_NODELETE keeps the driver, its globals and so the
-// allocation: no leak, and later contexts reuse the loaded driver.
-void KeepDriDriversLoaded() {
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, size_t, void*) -> int {
-        const char* name = info->dlpi_name;
-        if (name != nullptr && std::strstr(name, "_dri.so") != nullptr) {
-          // The handle is never closed on purpose.
-          dlopen(name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-        }
-        return 0;
-      },
-      nullptr);
-}
 
 void* EglProc(const char* name) {
   return reinterpret_cast<void*>(eglGetProcAddress(name));

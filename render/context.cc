@@ -1,7 +1,11 @@
 #include "render/context.h"
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 
 #include "geometry/check.h"
 #include "render/context_internal.h"
@@ -106,3 +110,30 @@ std::string Context::Description() const {
 }
 
 }  // namespace ripple::render
+
+namespace ripple::render::internal {
+
+// Keeps the DRI driver that context creation loaded (Mesa's swrast_dri.so
+// for llvmpipe, through EGL or GLX) mapped until the process exits.
+// eglTerminate (or closing the X display) unloads it, and the driver's one-time
+// initialisation keeps a small allocation that only the driver's own globals
+// point to: each unload leaks it, and the next context loads the driver and
+// allocates it again. LeakSanitizer reports that allocation at exit from an
+// unloaded module, which no suppression can name (docs/reliability.md,
+// "Sanitizer build"). A second reference with RTLD_NODELETE keeps the driver,
+// its globals and so the allocation: no leak, and later contexts reuse the
+// loaded driver.
+void KeepDriDriversLoaded() {
+  dl_iterate_phdr(
+      [](dl_phdr_info* info, size_t, void*) -> int {
+        const char* name = info->dlpi_name;
+        if (name != nullptr && std::strstr(name, "_dri.so") != nullptr) {
+          // The handle is never closed on purpose.
+          dlopen(name, RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
+        }
+        return 0;
+      },
+      nullptr);
+}
+
+}  // namespace ripple::render::internal

@@ -67,6 +67,7 @@ class EglContext final : public ContextBase {
       display_ = EGL_NO_DISPLAY;
       return false;
     }
+    KeepDriDriversLoaded();
     if (!eglBindAPI(EGL_OPENGL_API)) {
       *error = "EGL: desktop OpenGL API not supported";
       return false;

@@ -49,6 +49,7 @@ class GlfwContext final : public ContextBase {
 
   bool MakeCurrent() override {
     glfwMakeContextCurrent(window_);
+    KeepDriDriversLoaded();
     std::string ignored;
     return LoadGl(&GlfwProc, &ignored);
   }

@@ -23,6 +23,10 @@ class ContextBase : public Context {
   using Context::Context;
 };
 
+// Keeps every loaded *_dri.so mapped until exit (render/context.cc says
+// why); backends call it once their context exists.
+void KeepDriDriversLoaded();
+
 }  // namespace ripple::render::internal
 
 #endif  // RIPPLE_RENDER_CONTEXT_INTERNAL_H_

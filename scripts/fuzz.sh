@@ -22,9 +22,7 @@ readers=("$@")
 ((${#readers[@]})) || readers=(rig camera voxels pose_csv timestamps matroska)
 BIN=$ROOT/build-asan/tests/fuzz
 WORK=$ROOT/build-asan/fuzz
-export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1
-export LSAN_OPTIONS=suppressions=$ROOT/scripts/sanitizer/lsan.supp:print_suppressions=0
-export UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1
+source scripts/sanitizer/env.sh
 
 # Seeds: the shipped files, a short synthetic recording, the hostile inputs
 # (those under 64 KB: libFuzzer mutates small inputs best).

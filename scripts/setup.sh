@@ -12,7 +12,7 @@ PACKAGES=(
   libglfw3-dev libegl-dev libgl-dev libosmesa6-dev libgles-dev
   libegl-mesa0 libgl1-mesa-dri mesa-utils
   libcairo2-dev libfftw3-dev xvfb xauth
-  libyaml-dev libavutil-dev clang
+  libyaml-dev libavutil-dev clang lld
 )
 
 missing=()

@@ -62,6 +62,12 @@ class Deposits {
   // Tent splat onto the 4 nearest texel centres; false when (u, v) lies
   // outside a chart that does not clamp (the board map).
   bool Splat(int chart, double u, double v, const Spectrum& flux) {
+    // A degenerate path (a grazing 0/0) deposits nothing: converting a NaN
+    // to a texel index or an integer flux is undefined.
+    if (!std::isfinite(u) || !std::isfinite(v) || !std::isfinite(flux[0]) ||
+        !std::isfinite(flux[1]) || !std::isfinite(flux[2])) {
+      return false;
+    }
     const Chart& c = charts_[chart];
     const double U = c.nu * c.du, V = c.nv * c.dv;
     if (chart == kBoardChart && !(u >= 0 && u <= U && v >= 0 && v <= V)) {

@@ -6,7 +6,7 @@
 namespace ripple::tracking {
 namespace {
 
-constexpr double kDegToRad = M_PI / 180.0;
+constexpr double kFilterRadPerDeg = M_PI / 180.0;
 
 // Rotation vector of `q` (rad), the shorter way round.
 Eigen::Vector3d Log(const Eigen::Quaterniond& q) {
@@ -72,7 +72,7 @@ Pose PoseFilter::Filter(const Pose& ref_from_object, double time_s) {
   const Eigen::Vector3d z_pivot = ref_from_object * pivot_in_object_;
   // A jump away from the filtered pose restarts.
   if (Log(z_rotation * s.rotation.conjugate()).norm() >
-          options_.reset_rotation_deg * kDegToRad ||
+          options_.reset_rotation_deg * kFilterRadPerDeg ||
       (z_pivot - s.pivot).norm() > options_.reset_translation_m)
     return Restart(ref_from_object, time_s);
   restarted_ = false;

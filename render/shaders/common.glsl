@@ -53,9 +53,9 @@ vec3 Environment(vec3 r, vec3 fallback) {
 
 // The video's encoded value -> linear light (u_srgb_out: the video's
 // transfer, which the output shares). The video's textures (the scene copy,
-// the reflection map) are plain RGBA8, filtered as stored and decoded here,
-// once per lookup: llvmpipe's sRGB textures decode each of the four texels
-// before filtering, which cost 8% of the main pass. The power segment of
+// the reflection map, the clean plate) are plain RGBA8, filtered as stored
+// and decoded here, once per lookup: llvmpipe's sRGB textures decode each
+// of the four texels before filtering, which cost 8% of the main pass. The power segment of
 // IEC 61966-2-1 by a quartic fit, within 0.05 of an 8-bit level through a
 // decode and EncodeOutput; filtering before the decode differs from
 // filtering linear light only between texels of different values (an edge

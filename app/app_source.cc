@@ -322,8 +322,11 @@ std::unique_ptr<FrameSource> FrameSource::Open(
   }
   auto capture = std::make_unique<cv::VideoCapture>();
   try {
+    // An index opens through V4L2 as a device path does: CAP_ANY would
+    // also probe gphoto2, which scans the USB bus and leaks its port
+    // plugin's allocations (LeakSanitizer, after the plugin is unloaded).
     if (IsCameraIndex(spec))
-      capture->open(std::stoi(spec));
+      capture->open(std::stoi(spec), cv::CAP_V4L2);
     else
       capture->open(spec, cv::CAP_V4L2);
   } catch (const cv::Exception&) {

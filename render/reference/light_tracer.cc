@@ -335,8 +335,11 @@ void TraceLight(const ReferenceOptions& options, const SceneModel& model,
     offsets[k] = {(hk >> 11) * 0x1.0p-53, (Mix64(hk) >> 11) * 0x1.0p-53};
   }
 
-  // A fixed-point quantum far below one path's flux.
-  const double quantum = max_flux * 0x1.0p-32;
+  // A fixed-point quantum far below one path's flux. Without disc light
+  // (all ambient) every path carries zero flux and deposits zero; a zero
+  // quantum would make each deposit 0 * inf (NaN, converted to an integer:
+  // undefined), so any positive quantum serves.
+  const double quantum = max_flux > 0 ? max_flux * 0x1.0p-32 : 1.0;
   const int chunks = K * ny;
   std::vector<Tally> tallies(chunks);
   std::vector<Deposits> per_thread;

@@ -155,7 +155,8 @@ cv::Mat RenderRealTime(render::Renderer* r, const render::SceneInputs& in) {
 bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
                      const render::RendererOptions& ro, const cv::Mat& video,
                      const cv::Mat& reference, const cv::Mat& realtime,
-                     const cv::Mat& flip_map, std::string* error) {
+                     const cv::Mat& flip_map, const cv::Mat& water_mask,
+                     const cv::Mat& open_water_mask, std::string* error) {
   if (!MakeDirectories(dir, error)) return false;
   const reference::ReferenceScene& r = s.scene;
   const render::SceneInputs& in = r.scene;
@@ -173,6 +174,8 @@ bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
   flip_map.convertTo(flip16, CV_16U, 65535.0);
   bool ok = cv::imwrite(dir + "/video.png", video) &&
             cv::imwrite(dir + "/flip.png", flip16) &&
+            cv::imwrite(dir + "/water_mask.png", water_mask) &&
+            cv::imwrite(dir + "/open_water_mask.png", open_water_mask) &&
             cv::imwrite(dir + "/floor_albedo.png", albedo8) &&
             cv::imwrite(dir + "/reference.png", reference) &&
             cv::imwrite(dir + "/realtime.png", realtime);
@@ -229,6 +232,8 @@ bool WriteSceneFiles(const std::string& dir, const RenderBenchScene& s,
   }
   y << "renders: {reference: reference.png, realtime: realtime.png, "
        "flip: flip.png (16-bit, FLIP x 65535)}\n"
+    << "flip_regions: {water: water_mask.png, open_water: "
+       "open_water_mask.png}  # 255: averaged\n"
     << "realtime_look: " << render::WaterLookName(ro.optics.look) << "\n";
   y.close();
   if (!ok || !y) {
@@ -607,7 +612,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
     }
     if (!args.export_dir.empty() &&
         !WriteSceneFiles(args.export_dir + "/" + s.name, s, ro, video,
-                         reference, realtime, flip_map, &error))
+                         reference, realtime, flip_map, mask, open_mask,
+                         &error))
       return Fail(kExitRuntime, error);
   }
   csv.close();

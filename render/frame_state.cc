@@ -34,6 +34,8 @@ void CommonUniforms::Resolve(const Program& p) {
   tank_ = p.Uniform("u_tank");
   hf_extent_ = p.Uniform("u_hf_extent");
   hf_texel_ = p.Uniform("u_hf_texel");
+  hf_scale_ = p.Uniform("u_hf_scale");
+  hf_offset_ = p.Uniform("u_hf_offset");
   light_ = p.Uniform("u_light");
   light_refracted_ = p.Uniform("u_light_refracted");
   shadow_from_tank_ = p.Uniform("u_shadow_from_tank");
@@ -71,6 +73,8 @@ void CommonUniforms::Set(const Program& p, const FrameState& f,
   glUniform4f(tank_, t.size_x, t.size_y, t.wall_height, t.water_level);
   glUniform2f(hf_extent_, f.height.extent.x, f.height.extent.y);
   glUniform2f(hf_texel_, f.height.texel.x, f.height.texel.y);
+  SetUniform(hf_scale_, f.height.decode_scale);
+  SetUniform(hf_offset_, f.height.decode_offset);
   SetUniform(light_, f.light);
   SetUniform(light_refracted_, f.light_refracted);
   SetUniform(shadow_from_tank_, f.shadow.shadow_from_tank);

@@ -38,6 +38,10 @@ enum TextureUnit : int {
 struct HeightFieldInfo {
   glm::vec2 extent{1.0f};  // metres covered by the texture in x, y
   glm::vec2 texel{1.0f};   // 1 / texels in x, y
+  // (h, dh/dx, dh/dy) = offset + scale * the filtered RGBA8 texel's rgb
+  // (metres, slopes).
+  glm::vec3 decode_scale{0.0f};
+  glm::vec3 decode_offset{0.0f};
 };
 
 // Tank frame -> shadow map texture coordinates and its sampling constants
@@ -85,10 +89,10 @@ class CommonUniforms {
  private:
   GLint clip_from_tank_ = -1, cam_from_tank_ = -1, tank_from_cam_ = -1,
         intr_ = -1, image_size_ = -1, cam_in_tank_ = -1, tank_ = -1,
-        hf_extent_ = -1, hf_texel_ = -1, light_ = -1, light_refracted_ = -1,
-        shadow_from_tank_ = -1, shadow_on_ = -1, shadow_texel_ = -1,
-        shadow_bias_ = -1, srgb_out_ = -1, knee_ = -1, ambient_ = -1,
-        cube_from_tank_ = -1;
+        hf_extent_ = -1, hf_texel_ = -1, hf_scale_ = -1, hf_offset_ = -1,
+        light_ = -1, light_refracted_ = -1, shadow_from_tank_ = -1,
+        shadow_on_ = -1, shadow_texel_ = -1, shadow_bias_ = -1, srgb_out_ = -1,
+        knee_ = -1, ambient_ = -1, cube_from_tank_ = -1;
 };
 
 // glUniform wrappers for glm types (location -1 is ignored, as by GL).

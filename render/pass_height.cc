@@ -2,69 +2,35 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
-#if defined(__x86_64__) && defined(__GNUC__)
-#include <cpuid.h>
-#include <immintrin.h>
-#endif
 
 namespace ripple::render::internal {
 namespace {
 
-// IEEE half from float, round to nearest even (the portable path).
-std::uint16_t HalfOf(float f) {
-  std::uint32_t x;
-  std::memcpy(&x, &f, 4);
-  const std::uint32_t sign = (x >> 16) & 0x8000u;
-  const std::uint32_t abs = x & 0x7fffffffu;
-  if (abs >= 0x7f800000u) return sign | (abs > 0x7f800000u ? 0x7e00u : 0x7c00u);
-  if (abs >= 0x477ff000u) return sign | 0x7c00u;     // overflows to infinity
-  if (abs < 0x38800000u) {                           // subnormal or zero
-    const float scaled = std::abs(f) * 16777216.0f;  // 2^24: units of 2^-24
-    return sign | static_cast<std::uint16_t>(std::nearbyint(scaled));
+// One channel's affine 8-bit code over [lo, hi]: texel = (v - lo) / step.
+struct ChannelCode {
+  float lo = 0, step = 0, inv_step = 0;
+  static ChannelCode Over(float lo, float hi) {
+    ChannelCode c;
+    c.lo = lo;
+    c.step = (hi - lo) / 255.0f;
+    c.inv_step = c.step > 0 ? 1.0f / c.step : 0.0f;
+    return c;
   }
-  const std::uint32_t m = abs + 0xc8000fffu + ((abs >> 13) & 1u);
-  return sign | static_cast<std::uint16_t>(m >> 13);
-}
-
-void HalvesPortable(const float* in, std::uint16_t* out, std::size_t n) {
-  for (std::size_t i = 0; i < n; ++i) out[i] = HalfOf(in[i]);
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-__attribute__((target("avx,f16c"))) void HalvesF16c(const float* in,
-                                                    std::uint16_t* out,
-                                                    std::size_t n) {
-  std::size_t i = 0;
-  for (; i + 8 <= n; i += 8)
-    _mm_storeu_si128(
-        reinterpret_cast<__m128i*>(out + i),
-        _mm256_cvtps_ph(_mm256_loadu_ps(in + i), _MM_FROUND_TO_NEAREST_INT));
-  HalvesPortable(in + i, out + i, n - i);
-}
-#endif
-
-// Half floats are what the RGBA16F texture holds, so the driver copies
-// instead of converting every texel (a third of the upload on llvmpipe).
-void ToHalves(const float* in, std::uint16_t* out, std::size_t n) {
-#if defined(__x86_64__) && defined(__GNUC__)
-  // CPUID leaf 1, ECX bit 29 (clang 14's __builtin_cpu_supports has no
-  // "f16c").
-  static const bool f16c = [] {
-    unsigned a = 0, b = 0, c = 0, d = 0;
-    return __get_cpuid(1, &a, &b, &c, &d) != 0 && (c & bit_F16C) != 0;
-  }();
-  if (f16c) return HalvesF16c(in, out, n);
-#endif
-  HalvesPortable(in, out, n);
-}
+  // Non-finite values code as the rest level's 0 (the test is written so
+  // that NaN fails it).
+  std::uint32_t Encode(float v) const {
+    const float t = ((std::isfinite(v) ? v : 0.0f) - lo) * inv_step + 0.5f;
+    return t >= 0.0f ? static_cast<std::uint32_t>(std::min(t, 255.0f)) : 0u;
+  }
+};
 
 }  // namespace
 
 void HeightTexturePass::AllocateFlat() {
-  const glm::vec4 zero(0.0f);
-  AllocTexture(&texture_, GL_RGBA16F, 1, 1, GL_RGBA, GL_FLOAT, GL_LINEAR,
+  const std::uint32_t zero = 0;
+  AllocTexture(&texture_, GL_RGBA8, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR,
                GL_CLAMP_TO_EDGE, &zero);
+  decode_scale_ = decode_offset_ = glm::vec3(0.0f);
   nx_ = ny_ = 1;
   counter_.reset();
 }
@@ -75,6 +41,8 @@ HeightFieldInfo HeightTexturePass::info() const {
   HeightFieldInfo i;
   i.extent = extent_;
   i.texel = {1.0f / nx_, 1.0f / ny_};
+  i.decode_scale = decode_scale_;
+  i.decode_offset = decode_offset_;
   return i;
 }
 
@@ -90,12 +58,11 @@ bool HeightTexturePass::Update(const SceneInputs& scene) {
   const bool resized = w.nx != nx_ || w.ny != ny_;
   if (!resized && counter_ == w.change_counter) return false;
   // Height and central-difference slopes per cell, so the fragment shader
-  // needs one fetch for its normal. Stored as half floats: llvmpipe fetches
-  // and filters 8 bytes per texel instead of 16, and displacements of
-  // millimetres keep 11 significant bits.
+  // needs one fetch for its normal.
   const int nx = w.nx, ny = w.ny;
   const float inv = 1.0f / w.cell_size;
   slopes_.resize(static_cast<size_t>(nx) * ny);
+  glm::vec3 lo(0.0f), hi(0.0f);
   for (int j = 0; j < ny; ++j) {
     const float* row = w.heights + static_cast<size_t>(j) * nx;
     const float* down = w.heights + static_cast<size_t>(j > 0 ? j - 1 : j) * nx;
@@ -104,23 +71,44 @@ bool HeightTexturePass::Update(const SceneInputs& scene) {
     const float sy = inv / std::max((j > 0 ? 1 : 0) + (j + 1 < ny ? 1 : 0), 1);
     for (int i = 0; i < nx; ++i) {
       const int il = i > 0 ? i - 1 : i, ir = i + 1 < nx ? i + 1 : i;
-      slopes_[static_cast<size_t>(j) * nx + i] =
-          glm::vec4(row[i], (row[ir] - row[il]) * inv / std::max(ir - il, 1),
-                    (up[i] - down[i]) * sy, 0.0f);
+      const glm::vec3 v(row[i],
+                        (row[ir] - row[il]) * inv / std::max(ir - il, 1),
+                        (up[i] - down[i]) * sy);
+      slopes_[static_cast<size_t>(j) * nx + i] = v;
+      for (int c = 0; c < 3; ++c) {
+        if (!std::isfinite(v[c])) continue;
+        lo[c] = std::min(lo[c], v[c]);
+        hi[c] = std::max(hi[c], v[c]);
+      }
     }
   }
-  halves_.resize(slopes_.size() * 4);
-  ToHalves(&slopes_[0].x, halves_.data(), halves_.size());
+  // Stored as RGBA8, each channel over this frame's range (0 included, so a
+  // field at rest decodes to exactly 0): llvmpipe filters four-channel 8-bit
+  // textures in inlined code, half floats in a generic sampling function
+  // that cost twice as many instructions per lookup. Filtering is linear,
+  // so decoding after it is exact; the code's step is 1/255 of the range
+  // (8 um of height and 0.006 of slope for +-1 mm and +-0.75).
+  const ChannelCode code[3] = {ChannelCode::Over(lo.x, hi.x),
+                               ChannelCode::Over(lo.y, hi.y),
+                               ChannelCode::Over(lo.z, hi.z)};
+  packed_.resize(slopes_.size());
+  for (size_t k = 0; k < slopes_.size(); ++k) {
+    const glm::vec3& v = slopes_[k];
+    packed_[k] = code[0].Encode(v.x) | code[1].Encode(v.y) << 8 |
+                 code[2].Encode(v.z) << 16;
+  }
+  decode_offset_ = lo;
+  decode_scale_ = hi - lo;
   if (resized) {
-    AllocTexture(&texture_, GL_RGBA16F, nx, ny, GL_RGBA, GL_HALF_FLOAT,
-                 GL_LINEAR, GL_CLAMP_TO_EDGE, halves_.data());
+    AllocTexture(&texture_, GL_RGBA8, nx, ny, GL_RGBA, GL_UNSIGNED_BYTE,
+                 GL_LINEAR, GL_CLAMP_TO_EDGE, packed_.data());
     nx_ = nx;
     ny_ = ny;
   } else {
     glBindTexture(GL_TEXTURE_2D, texture_.id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, nx, ny, GL_RGBA, GL_HALF_FLOAT,
-                    halves_.data());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, nx, ny, GL_RGBA, GL_UNSIGNED_BYTE,
+                    packed_.data());
   }
   counter_ = w.change_counter;
   return true;

@@ -1,6 +1,7 @@
 // Height texture pass (internal to render/): the simulated surface as an
-// RGBA16F texture of (h, dh/dx, dh/dy) per cell, which the water shaders
-// sample for heights and normals.
+// RGBA8 texture of (h, dh/dx, dh/dy) per cell, each channel coded over the
+// frame's range (HeightFieldInfo's decode), which the water shaders sample
+// for heights and normals.
 //
 // Redraw key: the field's size and change counter; null heights key "flat"
 // (a 1 x 1 texture of zero over the tank).
@@ -34,8 +35,9 @@ class HeightTexturePass {
   int nx_ = 0, ny_ = 0;                   // texels
   std::optional<std::uint64_t> counter_;  // nullopt: flat
   glm::vec2 extent_{1.0f};                // metres
-  std::vector<glm::vec4> slopes_;         // h, dh/dx, dh/dy per texel
-  std::vector<std::uint16_t> halves_;     // the same as half floats (upload)
+  glm::vec3 decode_scale_{0.0f}, decode_offset_{0.0f};
+  std::vector<glm::vec3> slopes_;      // h, dh/dx, dh/dy per texel
+  std::vector<std::uint32_t> packed_;  // the same coded, RGBA8 (upload)
 };
 
 }  // namespace ripple::render::internal

@@ -165,8 +165,11 @@ bool ShadowPass::Create(const Options& options, std::string* error) {
   }
   glClearDepth(1.0);
   glClear(GL_DEPTH_BUFFER_BIT);
-  const std::vector<std::uint8_t> lit(kReceiverSize * kReceiverSize * 2, 255);
-  AllocTexture(&receiver_tex_, GL_RG8, kReceiverSize, kReceiverSize, GL_RG,
+  // RGBA8 although two channels are used: llvmpipe filters four-channel
+  // 8-bit textures in inlined code and sends RG8 and R8 through a slower
+  // generic sampling function.
+  const std::vector<std::uint8_t> lit(kReceiverSize * kReceiverSize * 4, 255);
+  AllocTexture(&receiver_tex_, GL_RGBA8, kReceiverSize, kReceiverSize, GL_RGBA,
                GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE, lit.data());
   if (!AttachColor(&receiver_fbo_, receiver_tex_)) {
     *error = "shadow receiver framebuffer incomplete";

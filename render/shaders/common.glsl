@@ -11,8 +11,10 @@ uniform vec3 u_cam_in_tank;      // camera centre
 uniform vec4 u_tank;             // inner size x, y; wall height; rest level
 uniform vec2 u_hf_extent;        // height-field extent nx*d, ny*d (metres)
 uniform vec2 u_hf_texel;         // 1/nx, 1/ny
-uniform sampler2D u_height;      // RGBA16F: displacement from the rest level,
-                                 // dh/dx, dh/dy (per cell, linear filtered)
+uniform sampler2D u_height;      // RGBA8: displacement from the rest level,
+                                 // dh/dx, dh/dy (per cell, linear filtered),
+uniform vec3 u_hf_scale;         // coded: value = offset + scale * texel
+uniform vec3 u_hf_offset;
 uniform vec3 u_light;            // unit vector towards the light
 uniform vec3 u_light_refracted;  // light direction under a flat surface
 uniform mat4 u_shadow_from_tank; // -> shadow map [0,1]^3
@@ -70,8 +72,14 @@ vec3 DecodeVideo(vec3 e) {
 
 vec2 HeightUv(vec2 xy) { return xy / u_hf_extent + 0.5; }
 
+// (h, dh/dx, dh/dy) at tank point xy, filtered and decoded.
+vec3 HeightAt(vec2 xy) {
+  return u_hf_offset + u_hf_scale * textureLod(u_height, HeightUv(xy), 0.0).rgb;
+}
+
 float SurfaceZ(vec2 xy) {
-  return u_tank.w + textureLod(u_height, HeightUv(xy), 0.0).r;
+  return u_tank.w + u_hf_offset.x +
+         u_hf_scale.x * textureLod(u_height, HeightUv(xy), 0.0).r;
 }
 
 // Texture coordinate of a tank point in the (undistorted) video.

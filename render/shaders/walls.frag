@@ -75,6 +75,13 @@ void main() {
   vec3 sky_seen = Environment(reflect(v, nrm), vec3(u_ambient));
 #ifdef FRONT_WALL
   if (v_p.z < surface) {
+    // The slab's two interfaces: air-glass outside, glass-water inside (the
+    // ray's cosine in the glass by Snell); both reflect the sky's mirror
+    // direction, and the rest enters the water.
+    float cos_g = sqrt(1.0 - (1.0 - cos_v * cos_v) /
+                                 (u_glass_ior * u_glass_ior));
+    r_glass = FresnelExact(cos_v, u_glass_ior) +
+              FresnelExact(cos_g, u_ior / u_glass_ior);
     // Into the water through the glass (n_glass cancels for a thin slab).
     vec3 d = refract(v, nrm, 1.0 / u_ior);
     vec3 p = v_p - nrm * 1e-5;

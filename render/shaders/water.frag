@@ -114,9 +114,9 @@ void main() {
   vec3 c = u_cam_in_tank;
   float dz = min(v.z, -1e-4);
   float s = (u_tank.w - c.z) / dz;
-  vec3 hs = textureLod(u_height, HeightUv(c.xy + s * v.xy), 0.0).rgb;
+  vec3 hs = HeightAt(c.xy + s * v.xy);
   s = (u_tank.w + hs.x - c.z) / dz;
-  hs = textureLod(u_height, HeightUv(c.xy + s * v.xy), 0.0).rgb;
+  hs = HeightAt(c.xy + s * v.xy);
   s = (u_tank.w + hs.x - c.z) / dz;
   vec3 p = c + s * v;
   p.xy = clamp(p.xy, -0.5 * u_tank.xy, 0.5 * u_tank.xy);

@@ -5,6 +5,6 @@ layout(location = 0) in vec2 a_grid;  // [0,1]^2 over the tank interior
 out vec3 v_p;
 void main() {
   vec2 xy = (a_grid - 0.5) * u_tank.xy;
-  v_p = vec3(xy, u_tank.w + textureLod(u_height, HeightUv(xy), 0.0).r);
+  v_p = vec3(xy, SurfaceZ(xy));
   gl_Position = u_clip_from_tank * vec4(v_p, 1.0);
 }

@@ -249,7 +249,8 @@ struct CausticsWorkspace::Buffers {
   // The light through the walls depends on the tank, the light and the map
   // only (rest level): kept until one of them changes.
   std::vector<float> walls;
-  std::array<double, 11> walls_key{};
+  std::vector<float> near_gain, near_add;  // NearWallGlassMaps
+  std::array<double, 12> walls_key{};
   bool walls_valid = false;
   double walls_flux = 0;
   std::vector<float> hc;
@@ -286,10 +287,11 @@ namespace {
 void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
               const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
               std::vector<float>* map, CausticsSummary* summary) {
-  if (!o.light_through_walls) return;
-  const std::array<double, 11> key = {tank.size_x,
+  if (!o.light_through_walls && !o.glass_near_walls) return;
+  const std::array<double, 12> key = {tank.size_x,
                                       tank.size_y,
                                       tank.water_level,
+                                      tank.wall_height,
                                       l.x,
                                       l.y,
                                       l.z,
@@ -298,16 +300,37 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
                                       o.attenuation_per_m,
                                       double(o.map_nx),
                                       double(o.map_ny)};
+  // Both maps depend on the tank and the light only: cached.
   if (!ws->walls_valid || ws->walls_key != key) {
     ws->walls.assign(map->size(), 0.0f);
-    ws->walls_flux = caustics_internal::AddWallLight(
-        tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
-        ws->walls.data());
+    ws->walls_flux = 0;
+    if (o.light_through_walls) {
+      ws->walls_flux = caustics_internal::AddWallLight(
+          tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
+          ws->walls.data());
+    }
+    ws->near_gain.assign(map->size(), 1.0f);
+    ws->near_add.assign(map->size(), 0.0f);
+    if (o.glass_near_walls) {
+      caustics_internal::NearWallGlassMaps(
+          tank, l, o.ior, o.glass_ior, o.map_nx, o.map_ny, ws->near_gain.data(),
+          ws->near_add.data());
+    }
     ws->walls_key = key;
     ws->walls_valid = true;
   }
-  for (size_t i = 0; i < map->size(); ++i) (*map)[i] += ws->walls[i];
-  if (summary) summary->flux_walls = ws->walls_flux;
+  double near = 0;
+  for (size_t i = 0; i < map->size(); ++i) {
+    const float surface = (*map)[i];
+    const float glass = surface * ws->near_gain[i] + ws->near_add[i];
+    near += glass - surface;
+    (*map)[i] = glass + ws->walls[i];
+  }
+  if (summary) {
+    summary->flux_walls = ws->walls_flux;
+    summary->flux_near_walls =
+        near * l.z * (tank.size_x / o.map_nx) * (tank.size_y / o.map_ny);
+  }
 }
 
 }  // namespace

@@ -41,6 +41,13 @@ struct CausticsOptions {
   // rest level (4x4 samples per texel), scaled by the walls' Fresnel
   // transmittance (air-glass-water, a thin slab) over the flat surface's.
   bool light_through_walls = true;
+  // Near the walls the glass also changes the light that came through the
+  // surface (for the rest level, per texel): the part of a wall above the
+  // water that faces the light transmits it as a glass slab in air, the
+  // opposite wall's part above the water reflects light onto the surface,
+  // and the opposite wall below the water mirrors back what the surface
+  // sent beyond it (total internal reflection at the glass-air face).
+  bool glass_near_walls = true;
   double glass_ior = 1.5;
   // AVX2 kernels where the CPU has them; false forces the baseline-ISA
   // build of the same kernels (identical results; for tests).
@@ -62,6 +69,10 @@ struct CausticsSummary {
   // above), in the same units times the walls' over the surface's Fresnel
   // transmittance.
   double flux_walls = 0;
+  // What the glass near the walls (glass_near_walls) added to the
+  // surface's light in the map (negative where it dims more than it adds),
+  // in the same units.
+  double flux_near_walls = 0;
 };
 
 // Scratch memory of ComputeCaustics, kept between calls so that a frame

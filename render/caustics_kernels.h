@@ -154,6 +154,20 @@ void Resolve(bool simd, AccumBuffer* buf, int y_first, int y_last, float* col_c,
 void FlatSurfaceMap(const TankGeometry& tank, const glm::dvec3& l, double ior,
                     int mx, int my, float* map);
 
+// The glass's effect on the surface's light near the walls, for the rest
+// level (caustics_walls.cc; CausticsOptions::glass_near_walls), per texel:
+// `gain` multiplies the light that entered through the surface (a wall
+// facing the light transmits it through its part above the water as a
+// glass slab in air, (1 - R) / (1 + R); a wall facing away reflects light
+// onto the surface near it, 2R / (1 + R)); `add` is the light the surface
+// sent beyond a wall facing away, mirrored back onto the floor by the wall
+// below the water (water-glass, then glass-air: total beyond the critical
+// angle). Both are filled over the whole map (gain 1 and add 0 away from
+// the walls).
+void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
+                       double ior, double glass_ior, int mx, int my,
+                       float* gain, float* add);
+
 // Adds the relative irradiance of the light entering through the side walls
 // below the rest level (caustics_walls.cc; CausticsOptions). Returns the
 // flux added, in CausticsSummary's units.

@@ -110,4 +110,111 @@ double AddWallLight(const TankGeometry& tank, const glm::dvec3& l, double ior,
   return flux;
 }
 
+void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
+                       double ior, double glass_ior, int mx, int my,
+                       float* gain, float* add) {
+  const size_t n = static_cast<size_t>(mx) * my;
+  std::fill(gain, gain + n, 1.0f);
+  std::fill(add, add + n, 0.0f);
+  const glm::dvec3 d = -l;  // travel direction of the light
+  const glm::dvec3 t = glm::refract(d, glm::dvec3(0, 0, 1), 1.0 / ior);
+  if (!(t.z < -1e-9) || !(l.z > 1e-9)) return;
+  const double h[2] = {0.5 * tank.size_x, 0.5 * tank.size_y};
+  // Flat water moves the light by `shift` from the surface to the floor.
+  const double shift[2] = {tank.water_level * t.x / -t.z,
+                           tank.water_level * t.y / -t.z};
+  const double above = tank.wall_height - tank.water_level;
+  // A glass slab in air at cos_i, with its internal reflections summed
+  // (incoherently): R_slab = 2R / (1 + R), T_slab = (1 - R) / (1 + R).
+  auto slab_r = [&](double cos_i) {
+    const double r = FresnelReflectance(cos_i, 1.0, glass_ior);
+    return 2.0 * r / (1.0 + r);
+  };
+  // A side wall seen from the water at cos_i: water-glass, then glass-air
+  // (1 beyond the glass's critical angle).
+  auto wall_r = [&](double cos_i) {
+    const double r1 = FresnelReflectance(cos_i, ior, glass_ior);
+    const double sin2_g =
+        (ior / glass_ior) * (ior / glass_ior) * (1.0 - cos_i * cos_i);
+    if (sin2_g >= 1.0) return 1.0;
+    const double r2 =
+        FresnelReflectance(std::sqrt(1.0 - sin2_g), glass_ior, 1.0);
+    return 1.0 - (1.0 - r1) * (1.0 - r2);
+  };
+  const double la[2] = {l.x, l.y};
+  // Transmittance of the glass above the water on the light arriving at
+  // surface point s from above: a wall facing the light (at side * h) is
+  // crossed when the ray towards the light meets it below its top.
+  auto transmitted = [&](const double s[2]) {
+    double g = 1.0;
+    for (int a = 0; a < 2; ++a) {
+      if (std::abs(la[a]) < 1e-9) continue;
+      const double side = la[a] > 0 ? 1.0 : -1.0;
+      const double u = (side * h[a] - s[a]) / la[a];
+      if (u >= 0 && u * l.z < above &&
+          std::abs(s[1 - a] + u * la[1 - a]) <= h[1 - a])
+        g *= 1.0 - slab_r(std::abs(la[a]));
+    }
+    return g;
+  };
+  // The light reflected onto surface point s by the wall facing away along
+  // axis a (at -side * h), above the water: it arrives mirrored in a.
+  auto reflected = [&](const double s[2], int a) {
+    if (std::abs(la[a]) < 1e-9) return 0.0;
+    const double side = la[a] > 0 ? 1.0 : -1.0;
+    const double v = (side * h[a] + s[a]) / la[a];
+    const bool hits = v >= 0 && v * l.z < above &&
+                      std::abs(s[1 - a] + v * la[1 - a]) <= h[1 - a];
+    return hits ? slab_r(std::abs(la[a])) : 0.0;
+  };
+  const double cell[2] = {tank.size_x / mx, tank.size_y / my};
+  constexpr int kSub = 4;
+  for (int j = 0; j < my; ++j) {
+    for (int i = 0; i < mx; ++i) {
+      const double x0 = -h[0] + i * cell[0], y0 = -h[1] + j * cell[1];
+      // Only texels near a wall can differ: within the light's run above
+      // the water plus the shift of any wall.
+      const double reach_x = above * std::abs(l.x) / l.z + std::abs(shift[0]);
+      const double reach_y = above * std::abs(l.y) / l.z + std::abs(shift[1]);
+      const bool near = x0 < -h[0] + reach_x + cell[0] ||
+                        x0 + cell[0] > h[0] - reach_x - cell[0] ||
+                        y0 < -h[1] + reach_y + cell[1] ||
+                        y0 + cell[1] > h[1] - reach_y - cell[1];
+      if (!near) continue;
+      double g_sum = 0, a_sum = 0;
+      for (int sj = 0; sj < kSub; ++sj) {
+        for (int si = 0; si < kSub; ++si) {
+          const double f[2] = {x0 + (si + 0.5) * cell[0] / kSub,
+                               y0 + (sj + 0.5) * cell[1] / kSub};
+          const double sp[2] = {f[0] - shift[0], f[1] - shift[1]};
+          g_sum += transmitted(sp);
+          for (int a = 0; a < 2; ++a) {
+            // Light reflected by the wall facing away: mirrored in a, so it
+            // reaches f from the surface point shifted the other way.
+            double sr[2] = {sp[0], sp[1]};
+            sr[a] = f[a] + shift[a];
+            if (std::abs(sr[0]) < h[0] && std::abs(sr[1]) < h[1])
+              a_sum += reflected(sr, a);
+            // The light that would land beyond the wall facing away (its
+            // mirror image of f) and came through the surface inside: the
+            // wall below the water mirrors it back onto f.
+            if (std::abs(shift[a]) < 1e-12) continue;
+            const double wall = shift[a] > 0 ? h[a] : -h[a];
+            double m[2] = {f[0], f[1]};
+            m[a] = 2.0 * wall - f[a];
+            const double sm[2] = {m[0] - shift[0], m[1] - shift[1]};
+            if (std::abs(sm[0]) < h[0] && std::abs(sm[1]) < h[1]) {
+              const double cos_w = std::abs(a == 0 ? t.x : t.y);
+              a_sum += wall_r(cos_w) * transmitted(sm);
+            }
+          }
+        }
+      }
+      const size_t at = static_cast<size_t>(j) * mx + i;
+      gain[at] = static_cast<float>(g_sum / (kSub * kSub));
+      add[at] = static_cast<float>(a_sum / (kSub * kSub));
+    }
+  }
+}
+
 }  // namespace ripple::render::caustics_internal

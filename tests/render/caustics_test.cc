@@ -73,6 +73,7 @@ TEST(CausticsTest, MissingHeightFieldGivesTheFlatMap) {
          {glm::dvec3(0, 0, 1), glm::dvec3(0.35, 0.25, 1.0)}) {
       CausticsOptions o;
       o.light_through_walls = false;
+      o.glass_near_walls = false;
       std::vector<float> map, zeros;
       CausticsSummary sum;
       ASSERT_TRUE(ComputeCaustics(o, view, TankGeometry{}, light, &map, &sum));
@@ -108,7 +109,9 @@ TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
   const glm::dvec3 l = glm::normalize(glm::dvec3(0.35, 0.0, 1.0));
   std::vector<float> map;
   CausticsSummary sum;
-  ASSERT_TRUE(ComputeCaustics({}, HeightFieldView{}, tank, l, &map, &sum));
+  CausticsOptions o;
+  o.glass_near_walls = false;  // the light through the walls alone
+  ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &map, &sum));
   const double n = 1.333, ng = 1.5;
   const double cos_i = l.x;
   const double sin_w = std::sqrt(1 - cos_i * cos_i) / n;  // in the water
@@ -144,6 +147,66 @@ TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
               2e-3 * sum.flux_walls);
 }
 
+// The glass near the walls, flat water, light in the x-z plane: the +x
+// wall's glass above the water transmits the light reaching a band of
+// surface as a slab in air, (1 - R) / (1 + R); the -x wall's glass above the
+// water reflects 2R / (1 + R) onto a band of the same width; below the water
+// the -x wall mirrors back, totally, the light the surface sends beyond it,
+// so the strip along it reads 2. The two bands cancel in flux: what is added
+// is the light that would land beyond the -x wall.
+TEST(CausticsTest, GlassNearTheWallsFollowsTheSlabFormulas) {
+  const TankGeometry tank;
+  const glm::dvec3 l = glm::normalize(glm::dvec3(0.35, 0.0, 1.0));
+  CausticsOptions o;
+  o.light_through_walls = false;
+  std::vector<float> map;
+  CausticsSummary sum;
+  ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &map, &sum));
+  const double n = 1.333;
+  const double r = FresnelReflectance(l.x, 1.0, 1.5);
+  const double r_slab = 2 * r / (1 + r);
+  const double sin_t = std::sqrt(1 - l.z * l.z) / n;
+  const double shift =
+      tank.water_level * sin_t / std::sqrt(1 - sin_t * sin_t);  // towards -x
+  const double band = (tank.wall_height - tank.water_level) * l.x / l.z;
+  const double h = 0.5 * tank.size_x, texel = tank.size_x / 256;
+  ASSERT_GT(band, 4 * texel);
+  ASSERT_GT(shift, 4 * texel);
+  int checked[4] = {};
+  const int b = 128;
+  for (int a = 0; a < 256; ++a) {
+    const double x0 = -h + a * texel, x1 = x0 + texel;
+    const float v = map[b * 256 + a];
+    auto inside = [&](double lo, double hi) {
+      return x0 > lo + 1e-9 && x1 < hi - 1e-9;
+    };
+    if (inside(-h, -h + shift)) {
+      EXPECT_NEAR(v, 2.0, 1e-5) << a;  // mirrored by total reflection
+      ++checked[0];
+    } else if (inside(-h + shift, -h + shift + band)) {
+      EXPECT_NEAR(v, 1.0 + r_slab, 1e-5) << a;  // reflected from above
+      ++checked[1];
+    } else if (inside(h - shift - band, h - shift)) {
+      EXPECT_NEAR(v, 1.0 - r_slab, 1e-5) << a;  // through the glass
+      ++checked[2];
+    } else if (inside(-h + shift + band, h - shift - band)) {
+      EXPECT_NEAR(v, 1.0, 1e-6) << a;
+      ++checked[3];
+    }
+  }
+  for (int k = 0; k < 4; ++k) EXPECT_GT(checked[k], 2) << k;
+  // Each of the three band edges is resolved to a quarter texel (4 x 4
+  // samples): an error of at most texel / 8 of the band's flux per edge.
+  EXPECT_NEAR(sum.flux_near_walls, shift * tank.size_y * l.z,
+              3 * texel / 8 * tank.size_y * l.z);
+  // Off, the map is the surface's light alone.
+  o.glass_near_walls = false;
+  std::vector<float> plain;
+  ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &plain, &sum));
+  EXPECT_NEAR(plain[b * 256 + 2], 1.0, 1e-6);
+  EXPECT_EQ(sum.flux_near_walls, 0.0);
+}
+
 // Oblique light shifts the lit area by level * tan(refracted angle) away
 // from the light; outside the unlit strip along the walls nearest the light
 // the map stays uniform.
@@ -153,6 +216,7 @@ TEST(CausticsTest, FlatWaterUnderObliqueLightIsUniformInside) {
   std::vector<float> map;
   CausticsOptions o;
   o.light_through_walls = false;
+  o.glass_near_walls = false;
   ASSERT_TRUE(
       ComputeCaustics(o, f.view, tank, {0.35, 0.25, 1.0}, &map, nullptr));
   float lo = 1e9f, hi = -1e9f;
@@ -177,6 +241,7 @@ TEST(CausticsTest, ConservesEnergy) {
       CausticsOptions o;
       o.threads = threads;
       o.light_through_walls = false;  // the surface's light only
+      o.glass_near_walls = false;
       std::vector<float> map;
       CausticsSummary sum;
       ASSERT_TRUE(

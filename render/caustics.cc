@@ -250,6 +250,7 @@ struct CausticsWorkspace::Buffers {
   // only (rest level): kept until one of them changes.
   std::vector<float> walls;
   std::vector<float> near_gain, near_add;  // NearWallGlassMaps
+  std::vector<std::uint32_t> near_texels;  // where they are not 1 and 0
   std::array<double, 12> walls_key{};
   bool walls_valid = false;
   double walls_flux = 0;
@@ -316,15 +317,32 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
           tank, l, o.ior, o.glass_ior, o.map_nx, o.map_ny, ws->near_gain.data(),
           ws->near_add.data());
     }
+    // Only texels near the walls differ: a list keeps the per-frame pass
+    // to them.
+    ws->near_texels.clear();
+    for (size_t i = 0; i < map->size(); ++i) {
+      if (ws->near_gain[i] != 1.0f || ws->near_add[i] != 0.0f)
+        ws->near_texels.push_back(static_cast<std::uint32_t>(i));
+    }
     ws->walls_key = key;
     ws->walls_valid = true;
   }
   double near = 0;
-  for (size_t i = 0; i < map->size(); ++i) {
-    const float surface = (*map)[i];
-    const float glass = surface * ws->near_gain[i] + ws->near_add[i];
-    near += glass - surface;
-    (*map)[i] = glass + ws->walls[i];
+  float* m = map->data();
+  const float* gain = ws->near_gain.data();
+  const float* add = ws->near_add.data();
+  if (summary) {
+    for (const std::uint32_t i : ws->near_texels) {
+      const float glass = m[i] * gain[i] + add[i];
+      near += glass - m[i];
+      m[i] = glass;
+    }
+  } else {
+    for (const std::uint32_t i : ws->near_texels)
+      m[i] = m[i] * gain[i] + add[i];
+  }
+  if (o.light_through_walls) {
+    for (size_t i = 0; i < map->size(); ++i) m[i] += ws->walls[i];
   }
   if (summary) {
     summary->flux_walls = ws->walls_flux;

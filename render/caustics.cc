@@ -331,15 +331,10 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
   float* m = map->data();
   const float* gain = ws->near_gain.data();
   const float* add = ws->near_add.data();
-  if (summary) {
-    for (const std::uint32_t i : ws->near_texels) {
-      const float glass = m[i] * gain[i] + add[i];
-      near += glass - m[i];
-      m[i] = glass;
-    }
-  } else {
-    for (const std::uint32_t i : ws->near_texels)
-      m[i] = m[i] * gain[i] + add[i];
+  for (const std::uint32_t i : ws->near_texels) {
+    const float glass = m[i] * gain[i] + add[i];
+    near += glass - m[i];
+    m[i] = glass;
   }
   if (o.light_through_walls) {
     for (size_t i = 0; i < map->size(); ++i) m[i] += ws->walls[i];

@@ -130,17 +130,6 @@ void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
     const double r = FresnelReflectance(cos_i, 1.0, glass_ior);
     return 2.0 * r / (1.0 + r);
   };
-  // A side wall seen from the water at cos_i: water-glass, then glass-air
-  // (1 beyond the glass's critical angle).
-  auto wall_r = [&](double cos_i) {
-    const double r1 = FresnelReflectance(cos_i, ior, glass_ior);
-    const double sin2_g =
-        (ior / glass_ior) * (ior / glass_ior) * (1.0 - cos_i * cos_i);
-    if (sin2_g >= 1.0) return 1.0;
-    const double r2 =
-        FresnelReflectance(std::sqrt(1.0 - sin2_g), glass_ior, 1.0);
-    return 1.0 - (1.0 - r1) * (1.0 - r2);
-  };
   const double la[2] = {l.x, l.y};
   // Transmittance of the glass above the water on the light arriving at
   // surface point s from above: a wall facing the light (at side * h) is
@@ -169,13 +158,13 @@ void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
   };
   const double cell[2] = {tank.size_x / mx, tank.size_y / my};
   constexpr int kSub = 4;
+  // Only texels near a wall can differ: within the light's run above the
+  // water plus the shift of any wall.
+  const double reach_x = above * std::abs(l.x) / l.z + std::abs(shift[0]);
+  const double reach_y = above * std::abs(l.y) / l.z + std::abs(shift[1]);
   for (int j = 0; j < my; ++j) {
     for (int i = 0; i < mx; ++i) {
       const double x0 = -h[0] + i * cell[0], y0 = -h[1] + j * cell[1];
-      // Only texels near a wall can differ: within the light's run above
-      // the water plus the shift of any wall.
-      const double reach_x = above * std::abs(l.x) / l.z + std::abs(shift[0]);
-      const double reach_y = above * std::abs(l.y) / l.z + std::abs(shift[1]);
       const bool near = x0 < -h[0] + reach_x + cell[0] ||
                         x0 + cell[0] > h[0] - reach_x - cell[0] ||
                         y0 < -h[1] + reach_y + cell[1] ||
@@ -205,7 +194,8 @@ void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
             const double sm[2] = {m[0] - shift[0], m[1] - shift[1]};
             if (std::abs(sm[0]) < h[0] && std::abs(sm[1]) < h[1]) {
               const double cos_w = std::abs(a == 0 ? t.x : t.y);
-              a_sum += wall_r(cos_w) * transmitted(sm);
+              a_sum +=
+                  SideWallReflectance(cos_w, ior, glass_ior) * transmitted(sm);
             }
           }
         }

@@ -100,6 +100,16 @@ double SkyTransmittance(double n, double sigma_per_m, double depth_m) {
   });
 }
 
+double SideWallReflectance(double cos_incident, double n_water,
+                           double n_glass) {
+  const double r1 = FresnelReflectance(cos_incident, n_water, n_glass);
+  const double sin2_g = (n_water / n_glass) * (n_water / n_glass) *
+                        (1.0 - cos_incident * cos_incident);
+  if (sin2_g >= 1.0) return 1.0;
+  const double r2 = FresnelReflectance(std::sqrt(1.0 - sin2_g), n_glass, 1.0);
+  return 1.0 - (1.0 - r1) * (1.0 - r2);
+}
+
 double DirectTransmittance(double cos_light, double n, double sigma_per_m,
                            double depth_m) {
   const double ct = CosRefracted(cos_light, 1.0, n);
@@ -238,15 +248,6 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
     const double r = std::sqrt(u), phi = 2.0 * 3.14159265358979 * v;
     dirs[k] = {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u)};
   }
-  // Reflectance of a side wall seen from the water at cos_i: water-glass,
-  // then glass-air (1 beyond the glass's critical angle).
-  auto wall_reflectance = [&](double cos_i) {
-    const double r1 = FresnelReflectance(cos_i, n, ng);
-    const double sin2_g = (n / ng) * (n / ng) * (1.0 - cos_i * cos_i);
-    if (sin2_g >= 1.0) return 1.0;
-    const double r2 = FresnelReflectance(std::sqrt(1.0 - sin2_g), ng, 1.0);
-    return 1.0 - (1.0 - r1) * (1.0 - r2);
-  };
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       const glm::dvec3 start(-hx + (i + 0.5) * size_x / nx,
@@ -274,7 +275,8 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
             d.z = -d.z;
           } else {
             const bool x_wall = t == tx;
-            const double r = wall_reflectance(std::abs(x_wall ? d.x : d.y));
+            const double r =
+                SideWallReflectance(std::abs(x_wall ? d.x : d.y), n, ng);
             // Out through the glass: the board around the tank below, the
             // sky above.
             outside += weight * (1.0 - r) * glm::exp(-sigma * length) *

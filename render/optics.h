@@ -27,6 +27,11 @@ namespace ripple::render {
 // equations. 1 under total internal reflection.
 double FresnelReflectance(double cos_incident, double n1, double n2);
 
+// Reflectance of a thin glass side wall met from the water at cos_incident:
+// water-glass, then glass-air (1 beyond the glass-air critical angle);
+// multiple reflections inside the glass are not summed.
+double SideWallReflectance(double cos_incident, double n_water, double n_glass);
+
 // Absorption coefficient of pure water (1/m) at a wavelength in
 // [380, 720] nm: Pope & Fry (1997), "Absorption spectrum (380-700 nm) of pure
 // water. II. Integrating cavity measurements", Appl. Opt. 36(33), Table 3,

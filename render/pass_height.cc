@@ -8,12 +8,12 @@ namespace {
 
 // One channel's affine 8-bit code over [lo, hi]: texel = (v - lo) / step.
 struct ChannelCode {
-  float lo = 0, step = 0, inv_step = 0;
+  float lo = 0, inv_step = 0;
   static ChannelCode Over(float lo, float hi) {
     ChannelCode c;
     c.lo = lo;
-    c.step = (hi - lo) / 255.0f;
-    c.inv_step = c.step > 0 ? 1.0f / c.step : 0.0f;
+    const float step = (hi - lo) / 255.0f;
+    c.inv_step = step > 0 ? 1.0f / step : 0.0f;
     return c;
   }
   // Non-finite values code as the rest level's 0 (the test is written so

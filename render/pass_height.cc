@@ -1,6 +1,7 @@
 #include "render/pass_height.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 
 namespace ripple::render::internal {
@@ -13,14 +14,13 @@ struct ChannelCode {
     ChannelCode c;
     c.lo = lo;
     const float step = (hi - lo) / 255.0f;
-    c.inv_step = step > 0 ? 1.0f / step : 0.0f;
+    c.inv_step = step > 0 && std::isfinite(1.0f / step) ? 1.0f / step : 0.0f;
     return c;
   }
-  // Non-finite values code as the rest level's 0 (the test is written so
-  // that NaN fails it).
+  // v finite (Update maps the rest to 0).
   std::uint32_t Encode(float v) const {
-    const float t = ((std::isfinite(v) ? v : 0.0f) - lo) * inv_step + 0.5f;
-    return t >= 0.0f ? static_cast<std::uint32_t>(std::min(t, 255.0f)) : 0u;
+    const float t = (v - lo) * inv_step + 0.5f;
+    return static_cast<std::uint32_t>(std::min(std::max(t, 0.0f), 255.0f));
   }
 };
 
@@ -57,29 +57,60 @@ bool HeightTexturePass::Update(const SceneInputs& scene) {
   extent_ = {w.nx * w.cell_size, w.ny * w.cell_size};
   const bool resized = w.nx != nx_ || w.ny != ny_;
   if (!resized && counter_ == w.change_counter) return false;
-  // Height and central-difference slopes per cell, so the fragment shader
-  // needs one fetch for its normal.
+  // Height and central-difference slopes per cell (one-sided at the
+  // borders), so the fragment shader needs one fetch for its normal. Planes
+  // of floats and branch-free inner loops, which the compiler vectorises:
+  // at 256 x 256 cells this runs every frame the water moves.
   const int nx = w.nx, ny = w.ny;
+  const size_t n = static_cast<size_t>(nx) * ny;
   const float inv = 1.0f / w.cell_size;
-  slopes_.resize(static_cast<size_t>(nx) * ny);
-  glm::vec3 lo(0.0f), hi(0.0f);
+  planes_.resize(3 * n);
+  float* ph = planes_.data();
+  float* px = ph + n;
+  float* py = px + n;
   for (int j = 0; j < ny; ++j) {
     const float* row = w.heights + static_cast<size_t>(j) * nx;
     const float* down = w.heights + static_cast<size_t>(j > 0 ? j - 1 : j) * nx;
     const float* up =
         w.heights + static_cast<size_t>(j + 1 < ny ? j + 1 : j) * nx;
     const float sy = inv / std::max((j > 0 ? 1 : 0) + (j + 1 < ny ? 1 : 0), 1);
+    float* oh = ph + static_cast<size_t>(j) * nx;
+    float* ox = px + static_cast<size_t>(j) * nx;
+    float* oy = py + static_cast<size_t>(j) * nx;
     for (int i = 0; i < nx; ++i) {
-      const int il = i > 0 ? i - 1 : i, ir = i + 1 < nx ? i + 1 : i;
-      const glm::vec3 v(row[i],
-                        (row[ir] - row[il]) * inv / std::max(ir - il, 1),
-                        (up[i] - down[i]) * sy);
-      slopes_[static_cast<size_t>(j) * nx + i] = v;
-      for (int c = 0; c < 3; ++c) {
-        if (!std::isfinite(v[c])) continue;
-        lo[c] = std::min(lo[c], v[c]);
-        hi[c] = std::max(hi[c], v[c]);
+      oh[i] = row[i];
+      oy[i] = (up[i] - down[i]) * sy;
+    }
+    const float half = 0.5f * inv;
+    for (int i = 1; i + 1 < nx; ++i) ox[i] = (row[i + 1] - row[i - 1]) * half;
+    ox[0] = nx > 1 ? (row[1] - row[0]) * inv : 0.0f;
+    if (nx > 1) ox[nx - 1] = (row[nx - 1] - row[nx - 2]) * inv;
+  }
+  // Non-finite values code as the rest level's 0; the range always holds 0.
+  glm::vec3 lo(0.0f), hi(0.0f);
+  for (int c = 0; c < 3; ++c) {
+    float* v = ph + c * n;
+    constexpr int kLanes = 16;
+    float lo_l[kLanes] = {}, hi_l[kLanes] = {};
+    size_t k = 0;
+    for (; k + kLanes <= n; k += kLanes) {
+      for (int l = 0; l < kLanes; ++l) {
+        const float a = v[k + l];
+        const float x = std::fabs(a) <= FLT_MAX ? a : 0.0f;
+        v[k + l] = x;
+        lo_l[l] = std::min(lo_l[l], x);
+        hi_l[l] = std::max(hi_l[l], x);
       }
+    }
+    for (; k < n; ++k) {
+      const float x = std::fabs(v[k]) <= FLT_MAX ? v[k] : 0.0f;
+      v[k] = x;
+      lo_l[0] = std::min(lo_l[0], x);
+      hi_l[0] = std::max(hi_l[0], x);
+    }
+    for (int l = 0; l < kLanes; ++l) {
+      lo[c] = std::min(lo[c], lo_l[l]);
+      hi[c] = std::max(hi[c], hi_l[l]);
     }
   }
   // Stored as RGBA8, each channel over this frame's range (0 included, so a
@@ -91,11 +122,10 @@ bool HeightTexturePass::Update(const SceneInputs& scene) {
   const ChannelCode code[3] = {ChannelCode::Over(lo.x, hi.x),
                                ChannelCode::Over(lo.y, hi.y),
                                ChannelCode::Over(lo.z, hi.z)};
-  packed_.resize(slopes_.size());
-  for (size_t k = 0; k < slopes_.size(); ++k) {
-    const glm::vec3& v = slopes_[k];
-    packed_[k] = code[0].Encode(v.x) | code[1].Encode(v.y) << 8 |
-                 code[2].Encode(v.z) << 16;
+  packed_.resize(n);
+  for (size_t k = 0; k < n; ++k) {
+    packed_[k] = code[0].Encode(ph[k]) | code[1].Encode(px[k]) << 8 |
+                 code[2].Encode(py[k]) << 16;
   }
   decode_offset_ = lo;
   decode_scale_ = hi - lo;

@@ -36,7 +36,7 @@ class HeightTexturePass {
   std::optional<std::uint64_t> counter_;  // nullopt: flat
   glm::vec2 extent_{1.0f};                // metres
   glm::vec3 decode_scale_{0.0f}, decode_offset_{0.0f};
-  std::vector<glm::vec3> slopes_;      // h, dh/dx, dh/dy per texel
+  std::vector<float> planes_;          // h, then dh/dx, then dh/dy planes
   std::vector<std::uint32_t> packed_;  // the same coded, RGBA8 (upload)
 };
 

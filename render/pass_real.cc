@@ -91,6 +91,7 @@ void RealObjectsPass::Upload(const SceneInputs& scene,
                     o.mask + static_cast<size_t>(window.y) * stride + window.x);
     glPixelStorei(GL_UNPACK_ROW_LENGTH, 0);
     state->mask = true;
+    state->mask_window = window;
   }
   last_window_ = window;
   // The plate, when it changed.

@@ -30,6 +30,7 @@ struct RealObjectsState {
   float pen_radius = 0;                  // shaft radius, metres
   float pen_margin = 0;                  // SceneInputs::pen_margin_m
   bool mask = false;                     // an occluder mask this frame
+  glm::ivec4 mask_window{0};             // where it is non-zero (pixels)
   bool plate = false;                    // a plate is uploaded
   glm::vec4 plate_map{0.0f};             // uv = xy * map.xy + map.zw
   float plate_gain = 1.0f;               // linear-light gain of the plate

@@ -1,10 +1,12 @@
 #include "render/pass_water.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
 #include "render/gl_state.h"
 #include "render/shaders.h"
+#include "render/water_regions.h"
 
 namespace ripple::render::internal {
 
@@ -32,7 +34,7 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   glUniform1i(p.Uniform("u_occluders"), kUnitOccluders);
   glUniform1i(p.Uniform("u_plate"), kUnitPlate);
   glUniform1i(p.Uniform("u_mirror"), kUnitMirror);
-  glUniform1f(p.Uniform("u_mirror_depth"), 0.03f);
+  glUniform1f(p.Uniform("u_mirror_depth"), kMirrorDepth_m);
   s->pen_tip = p.Uniform("u_pen_tip");
   s->pen_axis = p.Uniform("u_pen_axis");
   s->pen_length = p.Uniform("u_pen_length");
@@ -73,6 +75,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   options_ = options;
   for (int v = 0; v < kVariants; ++v) {
     if ((v & (kRealPen | kRealPlate)) && !(v & kRefraction)) continue;
+    if ((v & kMirror) && !(v & kReflection)) continue;
     std::string defines;
     if (options.env_cube) defines += "#define ENV_CUBE 1\n";
     if (options.sky) defines += "#define SKY 1\n";
@@ -82,6 +85,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
     if (v & kRefraction) defines += "#define REFRACTION 1\n";
     if (v & kRealPen) defines += "#define REAL_PEN 1\n";
     if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
+    if (v & kMirror) defines += "#define MIRROR 1\n";
     if (!BuildShading(&variants_[v], defines, options, error)) return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
@@ -133,22 +137,43 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   return true;
 }
 
+void WaterPass::Prepare(const Shading& s, const FrameState& f,
+                        const RealObjectsState& real) const {
+  s.common.Set(s.program, f, f.clip_from_tank);
+  const WaterShading& w = f.shading;
+  SetUniform(s.floor_sky, w.floor_sky);
+  SetUniform(s.floor_sun, w.floor_sun);
+  glUniform1f(s.inv_n2, w.inv_n2);
+  glUniform1f(s.glass_t, w.glass_transmittance);
+  glUniform1f(s.glint_peak, w.glint_peak);
+  glUniform1f(s.inv_alpha2, w.inv_alpha2);
+  SetUniform(s.return_tint, return_tint_);
+  // Locations are -1 in the variants without the pen or the plate.
+  SetUniform(s.pen_tip, real.pen_tip);
+  SetUniform(s.pen_axis, real.pen_axis);
+  glUniform1f(s.pen_length, real.pen_length);
+  glUniform1f(s.pen_radius, real.pen_radius);
+  glUniform1f(s.pen_margin, real.pen_margin);
+  glUniform4f(s.plate_map, real.plate_map.x, real.plate_map.y, real.plate_map.z,
+              real.plate_map.w);
+  glUniform1f(s.plate_gain, real.plate_gain);
+}
+
 void WaterPass::Draw(const FrameState& f, bool have_video,
                      const RealObjectsState& real) {
   const Effects& fx = f.scene->effects;
+  const SceneInputs& scene = *f.scene;
   // The plate matters only where this frame's mask hides the board.
   const bool real_ok = fx.refraction && have_video && !fx.flat_water;
   const bool with_pen = real_ok && real.pen;
   const bool with_plate = real_ok && real.mask && real.plate;
-  const Shading& shading =
-      fx.flat_water
-          ? flat_
-          : variants_[(fx.shadows ? kShadows : 0) |
-                      (fx.caustics ? kCaustics : 0) |
-                      (fx.reflection && have_video ? kReflection : 0) |
-                      (fx.refraction ? kRefraction : 0) |
-                      (with_pen ? kRealPen : 0) |
-                      (with_plate ? kRealPlate : 0)];
+  const bool reflection = fx.reflection && have_video;
+  // The mirror holds something only with obstacles or the pen in view.
+  const bool with_mirror = reflection && !fx.flat_water &&
+                           (!scene.obstacles.empty() || scene.pen_visible);
+  const int base = (fx.shadows ? kShadows : 0) | (fx.caustics ? kCaustics : 0) |
+                   (reflection ? kReflection : 0) |
+                   (fx.refraction ? kRefraction : 0);
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -167,42 +192,82 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // (b) One shading per marked pixel, in the water's screen rectangle: the
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
-  UpdateFloorReturn(f.scene->tank);
+  UpdateFloorReturn(scene.tank);
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
   glBindTexture(GL_TEXTURE_2D, floor_return_.id());
-  shading.common.Set(shading.program, f, f.clip_from_tank);
-  const WaterShading& w = f.shading;
-  SetUniform(shading.floor_sky, w.floor_sky);
-  SetUniform(shading.floor_sun, w.floor_sun);
-  glUniform1f(shading.inv_n2, w.inv_n2);
-  glUniform1f(shading.glass_t, w.glass_transmittance);
-  glUniform1f(shading.glint_peak, w.glint_peak);
-  glUniform1f(shading.inv_alpha2, w.inv_alpha2);
-  SetUniform(shading.return_tint, return_tint_);
-  if (with_pen) {
-    SetUniform(shading.pen_tip, real.pen_tip);
-    SetUniform(shading.pen_axis, real.pen_axis);
-    glUniform1f(shading.pen_length, real.pen_length);
-    glUniform1f(shading.pen_radius, real.pen_radius);
-    glUniform1f(shading.pen_margin, real.pen_margin);
-  }
-  if (with_plate) {
-    glUniform4f(shading.plate_map, real.plate_map.x, real.plate_map.y,
-                real.plate_map.z, real.plate_map.w);
-    glUniform1f(shading.plate_gain, real.plate_gain);
-  }
-  glStencilFunc(GL_EQUAL, 1, 0xff);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  state.StencilMask(0);
   state.Disable(GL_DEPTH_TEST);
-  const TankGeometry& t = f.scene->tank;
+  const TankGeometry& t = scene.tank;
   const glm::ivec4 rect =
       BoxRect(f.clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
               t.water_level + 0.01, 1, f.k->width, f.k->height);
   state.Enable(GL_SCISSOR_TEST);
-  glScissor(rect.x, rect.y, rect.z, rect.w);
   glBindVertexArray(empty_vao_.id());
-  glDrawArrays(GL_TRIANGLES, 0, 3);
+  if (fx.flat_water) {
+    Prepare(flat_, f, real);
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+    state.StencilMask(0);
+    glScissor(rect.x, rect.y, rect.z, rect.w);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    return;
+  }
+  // The pen, the plate and the mirror, each only inside its region
+  // (water_regions.h): the rectangle is cut along the regions' edges into
+  // cells, and each run of cells along a row that the same regions hold is
+  // drawn once, scissored, by the program with just those effects. The
+  // cells do not overlap: llvmpipe's stencil test of a block it then
+  // rejects costs about a tenth of shading it.
+  glm::ivec4 region[3] = {rect, rect, rect};
+  const int bit[3] = {kRealPen, kRealPlate, kMirror};
+  const bool use[3] = {with_pen, with_plate, with_mirror};
+  if (options_.regions) {
+    if (with_pen) {
+      region[0] =
+          PenRefractionRect(f, real.pen_tip, real.pen_axis, real.pen_length,
+                            real.pen_radius, real.pen_margin);
+    }
+    if (with_plate) region[1] = PlateLookupRect(f, real.mask_window);
+    if (with_mirror) region[2] = MirrorLookupRect(f, MirroredObjectsRect(f));
+  }
+  std::vector<int> xs = {rect.x, rect.x + rect.z};
+  std::vector<int> ys = {rect.y, rect.y + rect.w};
+  for (int i = 0; i < 3; ++i) {
+    if (!use[i]) continue;
+    region[i] = IntersectRect(region[i], rect);
+    if (region[i].z <= 0 || region[i].w <= 0) continue;
+    xs.insert(xs.end(), {region[i].x, region[i].x + region[i].z});
+    ys.insert(ys.end(), {region[i].y, region[i].y + region[i].w});
+  }
+  std::sort(xs.begin(), xs.end());
+  xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
+  std::sort(ys.begin(), ys.end());
+  ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  state.StencilMask(0);
+  auto effects_at = [&](int x, int y) {
+    int e = 0;
+    for (int i = 0; i < 3; ++i) {
+      const glm::ivec4& r = region[i];
+      if (use[i] && x >= r.x && x < r.x + r.z && y >= r.y && y < r.y + r.w)
+        e |= bit[i];
+    }
+    return e;
+  };
+  for (size_t b = 0; b + 1 < ys.size(); ++b) {
+    const int y0 = ys[b], y1 = ys[b + 1];
+    size_t a = 0;
+    while (a + 1 < xs.size()) {
+      const int e = effects_at(xs[a], y0);
+      size_t end = a + 1;
+      while (end + 1 < xs.size() && effects_at(xs[end], y0) == e) ++end;
+      Prepare(variants_[base | e], f, real);
+      glScissor(xs[a], y0, xs[end] - xs[a], y1 - y0);
+      glDrawArrays(GL_TRIANGLES, 0, 3);
+      a = end;
+    }
+  }
   glBindVertexArray(0);
 }
 

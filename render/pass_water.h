@@ -31,6 +31,10 @@ class WaterPass {
     // (pass_envmap.h) rather than the fold; the daylight sky over it.
     bool env_cube = false;
     bool sky = false;
+    // Shade the real pen, the clean plate and the mirror only inside their
+    // regions (water_regions.h) and the rest of the water without them; the
+    // output is the same. false: every water pixel takes every effect.
+    bool regions = true;
   };
   bool Create(const Options& options, std::string* error);
 
@@ -56,7 +60,9 @@ class WaterPass {
     // the clean plate behind this frame's occluder mask.
     kRealPen = 16,
     kRealPlate = 32,
-    kVariants = 64,
+    // Only with kReflection: the mirrored obstacles and pen (pass_mirror.h).
+    kMirror = 64,
+    kVariants = 128,
   };
   struct Shading {
     Program program;
@@ -70,6 +76,9 @@ class WaterPass {
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);
+  // Binds `s` and sets the frame's uniforms.
+  void Prepare(const Shading& s, const FrameState& f,
+               const RealObjectsState& real) const;
 
   // The floor-return map for `tank` (computed on the CPU, once per tank).
   void UpdateFloorReturn(const TankGeometry& tank);

@@ -150,6 +150,12 @@ struct RendererOptions {
   // the FBO) and a lens with distortion (the output is the undistorted
   // video) always take the whole frame.
   bool full_frame_output = false;
+  // The water shades the real pen, the clean plate and the mirrored objects
+  // only inside screen rectangles that bound where they can appear
+  // (render/water_regions.h) and the rest of the water with a program
+  // without them: the same image for less work. false: every water pixel
+  // runs every effect (the reference for that claim).
+  bool water_regions = true;
   // Outdoors (--sun): the daylight sky (render/sun.h) is what reflected rays
   // climbing above the surroundings the video shows see: the reflection
   // takes the sky's radiance (DaylightSkyRadiance) in place of the video's

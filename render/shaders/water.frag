@@ -17,9 +17,11 @@
 // shader 2-3 times per pixel along the many triangle edges.
 //
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
-// REAL_PEN, REAL_PLATE, FLAT_WATER): llvmpipe runs both sides of a branch
-// (an `if` whose condition is false on every pixel still costs its body),
-// so disabled effects must not be in the shader at all.
+// REAL_PEN, REAL_PLATE, MIRROR, FLAT_WATER): llvmpipe runs both sides of a
+// branch (an `if` whose condition is false on every pixel still costs its
+// body), so disabled effects must not be in the shader at all. The pen, the
+// plate and the mirror are left out outside their regions of the screen
+// (water_regions.h).
 //
 // The real scene inside the water (with REFRACTION): with REAL_PEN, a
 // refracted ray that meets the submerged part of the real pen's shaft sees
@@ -221,9 +223,11 @@ void main() {
   // (pass_mirror.h, premultiplied), displaced by the surface's slope: a tilt
   // of the normal turns the reflected ray by twice as much.
   vec3 env = EnvLookup(p, r);
+#ifdef MIRROR
   vec4 mirror = textureLod(
       u_mirror, VideoUv(p + vec3(2.0 * u_mirror_depth * n.xy, 0.0)), 0.0);
   env = env * (1.0 - mirror.a) + mirror.rgb;
+#endif
   color = mix(color, env, fresnel);
 #else
   color *= 1.0 - fresnel;

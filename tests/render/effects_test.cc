@@ -124,6 +124,81 @@ TEST(EffectsTest, PenDippedIntoWater) {
       << "without the phantom the water covers the pen";
 }
 
+// The water shades the real pen, the clean plate and the mirror only inside
+// their screen regions (RendererOptions::water_regions): the image must be
+// the one every pixel running every effect gives, on calm and steep water,
+// from the front, tilted and from above, and each effect must show in it
+// (else the comparison proves nothing).
+TEST(EffectsTest, WaterRegionsLeaveTheImageUnchanged) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  RendererOptions split, every;
+  every.water_regions = false;
+  for (const View view : {View::kFront, View::kTilted, View::kTop}) {
+    for (const double amplitude : {0.0, 0.0003, 0.0015}) {
+      TestScene s = SceneWithOccluders(view);
+      for (float& h : s.heights) h *= 0.0;
+      if (amplitude > 0) {
+        TestScene rippled = MakeScene(kW, kH, view, true);
+        s.heights = rippled.heights;
+        for (float& h : s.heights) h *= amplitude / 0.0015;
+        s.inputs.water.change_counter = 2;
+      }
+      s.inputs.water.heights = s.heights.data();
+      testing::PaintPen(s.k, s.inputs.cam_from_tank, s.inputs.tank_from_pen,
+                        s.inputs.pen, &s.video);
+      // A hand-sized occluder over part of the tank, and a striped plate
+      // of the board that the refraction reads behind it.
+      std::vector<std::uint8_t> mask(kW * kH, 0);
+      const glm::ivec4 window(kW / 2, kH / 2, kW / 6, kH / 8);
+      for (int y = window.y; y < window.y + window.w; ++y)
+        for (int x = window.x; x < window.x + window.z; ++x)
+          mask[y * kW + x] = 255;
+      s.inputs.occluders = {mask.data(), kW, kH, kW, window};
+      const int n = 300;
+      std::vector<std::uint8_t> plate(4 * n * n);
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+          std::uint8_t* t = &plate[4 * (j * n + i)];
+          const bool stripe = (i / 6 + j / 6) % 2 == 0;
+          t[0] = stripe ? 40 : 200;
+          t[1] = 60;
+          t[2] = stripe ? 220 : 30;
+          t[3] = 255;
+        }
+      }
+      s.inputs.plate = {plate.data(),   n,     n,    4 * n,
+                        {-0.15, -0.15}, 0.001, 1.0f, 1};
+      auto a = Renderer::TryCreate(ctx.get(), s.k, split, nullptr);
+      auto b = Renderer::TryCreate(ctx.get(), s.k, every, nullptr);
+      ASSERT_NE(a, nullptr);
+      ASSERT_NE(b, nullptr);
+      const cv::Mat with_regions = RenderScene(a.get(), s.inputs);
+      const cv::Mat everywhere = RenderScene(b.get(), s.inputs);
+      cv::Mat diff;
+      cv::absdiff(with_regions, everywhere, diff);
+      EXPECT_EQ(cv::countNonZero(diff.reshape(1)), 0)
+          << "view " << int(view) << ", amplitude " << amplitude;
+      // Each effect changes the image somewhere.
+      SceneInputs no_real = s.inputs;
+      no_real.effects.real_objects = false;
+      EXPECT_GT(MeanDiff(RenderScene(b.get(), no_real), everywhere), 0.01)
+          << "the pen and the plate show in the water";
+      SceneInputs no_mirror = s.inputs;
+      no_mirror.obstacles.clear();
+      no_mirror.pen_visible = false;
+      no_mirror.occluders = {};
+      no_mirror.plate = {};
+      SceneInputs only_pen = no_mirror;
+      only_pen.pen_visible = true;
+      only_pen.effects.real_objects = false;
+      EXPECT_GT(MeanDiff(RenderScene(b.get(), only_pen),
+                         RenderScene(b.get(), no_mirror)),
+                0.01)
+          << "the pen's mirror image shows in the water";
+    }
+  }
+}
+
 // The shadow map is redrawn only when an occluder moved by more than the
 // threshold or the light changed; caustics only when the surface changed.
 // An idle scene skips both.

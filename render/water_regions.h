@@ -1,0 +1,62 @@
+// Water regions (internal to render/): window rectangles outside which an
+// effect of the water shader cannot change a pixel, so that the water pass
+// shades the rest of the water with a program that leaves the effect out
+// (llvmpipe runs every instruction of a program on every pixel, so an effect
+// that touches a few per cent of the water would otherwise cost its full
+// price on all of it).
+//
+// Each rectangle bounds the surface points (z within the rest level +- 1 cm,
+// as the water pass's own rectangle) whose shading can involve the effect,
+// for the frame's steepest surface slope (the height texture's range):
+//  - the real pen: the refracted ray from the surface meets the submerged
+//    shaft. The surface point seeing an underwater point P lies within
+//    depth(P) * k of the point above P, k the largest horizontal travel per
+//    unit depth of a refracted ray (the camera's rays to the tank's corners,
+//    normals tilted up to the steepest slope);
+//  - the mirror (pass_mirror.h): the lookup at the surface point displaced by
+//    2 * kMirrorDepth_m * the normal's xy lands where the mirror holds
+//    something, the mirrored objects' screen box;
+//  - the clean plate: the refracted lookup point on the board (the floor,
+//    the floor in a wall's mirror, or the board beyond the glass) is seen in
+//    the occluder mask's window; it lies within (k + k_out) * depth of the
+//    surface point, k_out the travel of the ray that left through a wall.
+// A rectangle is empty ({0, 0, 0, 0}) when the effect touches nothing and
+// the whole window when the bound cannot be made (a point behind the
+// camera, the camera under the water, rays near the horizontal).
+#ifndef RIPPLE_RENDER_WATER_REGIONS_H_
+#define RIPPLE_RENDER_WATER_REGIONS_H_
+
+#include <glm/glm.hpp>
+
+#include "render/frame_state.h"
+
+namespace ripple::render::internal {
+
+// The height the water shader's mirror lookup assumes for what it mirrors.
+constexpr float kMirrorDepth_m = 0.03f;
+
+// Surface points whose refracted ray may meet the shaft of radius `radius`
+// (+ `margin`) from `tip` along the unit `axis` for `length`.
+glm::ivec4 PenRefractionRect(const FrameState& f, const glm::dvec3& tip,
+                             const glm::dvec3& axis, double length,
+                             double radius, double margin);
+
+// Surface points whose mirror lookup may land inside `mirror_window` (the
+// mirrored objects' window rectangle).
+glm::ivec4 MirrorLookupRect(const FrameState& f,
+                            const glm::ivec4& mirror_window);
+
+// Window rectangle of the mirror images (z -> 2 level - z) of the scene's
+// obstacles and, when visible, the pen; empty if there are none.
+glm::ivec4 MirroredObjectsRect(const FrameState& f);
+
+// Surface points whose refracted lookup on the board (z = 0) may be seen
+// in `image_window` (x, y, w, h: image pixels, the occluder mask's window).
+glm::ivec4 PlateLookupRect(const FrameState& f, const glm::ivec4& image_window);
+
+// The overlap of two rectangles (empty if none).
+glm::ivec4 IntersectRect(const glm::ivec4& a, const glm::ivec4& b);
+
+}  // namespace ripple::render::internal
+
+#endif  // RIPPLE_RENDER_WATER_REGIONS_H_

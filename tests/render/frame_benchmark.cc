@@ -269,6 +269,37 @@ BENCHMARK(BM_ShadowFilter)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();
 
+// The water regions (RendererOptions::water_regions) on the main pass (as
+// mode 0): the benchmark's ring (slopes up to 0.75, the regions' bounds
+// widen with the steepest slope) and the same ring at a fifth of its height
+// (slopes up to 0.15, as the demo's strokes), each with the regions on and
+// off.
+void BM_WaterRegions(benchmark::State& state) {
+  const bool calm = state.range(0) != 0;
+  RendererOptions options;
+  options.water_regions = state.range(1) != 0;
+  auto f = Make(state, Backend::kEgl, false, options);
+  if (!f) return;
+  if (calm)
+    for (float& h : f->heights) h *= 0.2f;
+  SceneInputs& in = f->scene.inputs;
+  in.effects.shadows = in.effects.caustics = false;
+  f->renderer->Render(in);
+  f->renderer->Finish();
+  const CallgrindRegion counted;
+  for (auto _ : state) {
+    in.water.change_counter++;
+    f->renderer->Render(in);
+    f->renderer->Finish();
+  }
+}
+BENCHMARK(BM_WaterRegions)
+    ->ArgNames({"calm", "regions"})
+    ->ArgsProduct({{0, 1}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
 // A webcam's modes: the whole frame as the pipeline runs it (render, wait,
 // read back into a BGR image) at each size, with the same field of view.
 // Effects as in kFullChanging (water and pen change every frame).

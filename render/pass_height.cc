@@ -20,7 +20,10 @@ struct ChannelCode {
   // v finite (Update maps the rest to 0).
   std::uint32_t Encode(float v) const {
     const float t = (v - lo) * inv_step + 0.5f;
-    return static_cast<std::uint32_t>(std::min(std::max(t, 0.0f), 255.0f));
+    // Through int32: SSE2 converts floats to signed integers only, so this
+    // keeps the packing loop vectorised.
+    return static_cast<std::uint32_t>(
+        static_cast<std::int32_t>(std::min(std::max(t, 0.0f), 255.0f)));
   }
 };
 

@@ -350,6 +350,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
     rs.light_angular_radius_rad = optics.light_angular_radius_rad;
     rs.water_ior = optics.ior;
     rs.glass_ior = optics.glass_ior;
+    rs.glass_thickness_m = optics.glass_thickness_m;
     rs.obstacle_albedo = {ro.obstacle_albedo.b, ro.obstacle_albedo.g,
                           ro.obstacle_albedo.r};
     SceneResult res;

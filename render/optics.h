@@ -91,6 +91,9 @@ struct WaterOptics {
   glm::vec3 scatter_color{0.0f};  // linear RGB of deep water; 0 = none
   float ior = 1.333f;             // water, visible light at 20 C
   float glass_ior = 1.5f;         // the tank's walls
+  // The walls' glass outside the tank's inner size, metres: a ray the glass
+  // totally reflects does so at its outer face (water.frag).
+  float glass_thickness_m = 0.003f;
   // Share of the board's light that comes from the sky (see above).
   float ambient_share = 0.3f;
   // Angular radius of the light's disc, radians (glints on the ripples).

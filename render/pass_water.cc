@@ -22,6 +22,8 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   glUniform1i(p.Uniform("u_floor_return"), kUnitFloorReturn);
 
   glUniform1f(p.Uniform("u_ior"), options.optics.ior);
+  glUniform1f(p.Uniform("u_glass_ior"), options.optics.glass_ior);
+  glUniform1f(p.Uniform("u_glass_d"), options.optics.glass_thickness_m);
   SetUniform(p.Uniform("u_sigma"), options.optics.absorption_per_m);
   SetUniform(p.Uniform("u_scatter"), options.optics.scatter_color);
   s->floor_sky = p.Uniform("u_floor_sky");

@@ -41,6 +41,8 @@ uniform vec3 u_sigma;            // absorption per metre (r, g, b)
 uniform vec3 u_scatter;          // colour of deep water (pool look; else 0)
 uniform float u_env_distance;    // metres to the virtual reflected scene
 uniform float u_ior;             // water
+uniform float u_glass_ior;       // the walls' glass
+uniform float u_glass_d;         // its thickness outside the inner size, m
 // Constants of the floor's light (optics.h, WaterShading).
 uniform vec3 u_floor_sky;        // sky through the flat surface to the floor
 uniform vec3 u_floor_sun;        // direct light through the flat surface
@@ -138,21 +140,36 @@ void main() {
   float tw = max(min(tx, ty), 0.0);
   float th = min(tf, tw);
   vec3 f = p + t * th;
-  // At a side wall (a thin glass slab refracts as water to air): beyond the
-  // critical angle the glass mirrors the ray back onto the floor; otherwise
-  // it leaves the tank and meets the board behind it (or the sky: the
-  // ambient radiance) and the video is read there.
+  // At a side wall (a glass slab refracts as water to air): beyond the
+  // critical angle the slab's outer face mirrors the ray back; otherwise it
+  // leaves the tank and meets the board behind it (or the sky: the ambient
+  // radiance) and the video is read there. Mirrored, the ray crosses the
+  // glass twice (direction tg out, its mirror image back), coming down by
+  // 2 d |tg.z| / |tg.n| and along the wall by 2 d |tg_t| / |tg.n| before it
+  // re-enters the water towards the floor; a ray that reaches z = 0 inside
+  // the glass sees the board under it.
   bool on_floor = tf <= tw;
   vec3 wall_n = tx < ty ? vec3(-sign(t.x), 0.0, 0.0) : vec3(0.0, -sign(t.y), 0.0);
   vec3 out_dir = refract(t, wall_n, u_ior);
   bool mirrored = !on_floor && dot(out_dir, out_dir) < 0.5;
   vec3 t2 = reflect(t, wall_n);
-  float tf2 = t2.z < -1e-5 ? -f.z / t2.z : 0.0;
+  vec3 tg = refract(t, wall_n, u_ior / u_glass_ior);
+  vec3 tg_back = reflect(tg, wall_n);
+  float glass_path = 2.0 * u_glass_d / max(-dot(tg, wall_n), 1e-3);
+  float to_board = f.z / max(-tg.z, 1e-5);
+  bool under_glass = mirrored && to_board < glass_path;
+  vec3 in_glass = f + tg * min(to_board, 0.5 * glass_path) +
+                  tg_back * max(to_board - 0.5 * glass_path, 0.0);
+  vec3 f2 = f + (tg + tg_back) * (0.5 * glass_path);
+  float tf2 = t2.z < -1e-5 ? -f2.z / t2.z : 0.0;
   float leave = out_dir.z < -1e-5 ? -f.z / out_dir.z : 0.0;
   vec3 beyond = f + out_dir * leave;
-  vec3 lookup = on_floor ? f : (mirrored ? f + t2 * tf2 : beyond);
-  th += mirrored ? tf2 : 0.0;
-  f = on_floor || mirrored ? lookup : f;
+  vec3 lookup = on_floor ? f
+                         : (mirrored ? (under_glass ? in_glass : f2 + t2 * tf2)
+                                     : beyond);
+  bool floor_seen = on_floor || (mirrored && !under_glass);
+  th += floor_seen && mirrored ? tf2 : 0.0;
+  f = floor_seen ? lookup : f;
 #ifdef REAL_PEN
   // The submerged shaft in the way: seen as the video shows the same line
   // of the cylinder 4 mm above the surface (one fetch for either: the
@@ -186,7 +203,7 @@ void main() {
     seen.a = 0.0;
     th = s_pen;
     f = h;
-    on_floor = true;
+    floor_seen = true;
   }
 #endif
   vec3 video = seen.rgb;  // linear
@@ -211,8 +228,9 @@ void main() {
   floor_light += back.rgb;
   vec3 under = video * floor_light * u_inv_n2 /
                (1.0 - returned * min(video, vec3(0.95)));
-  vec3 beyond_light = out_dir.z < -1e-5 ? video : vec3(u_ambient);
-  vec3 below = on_floor || mirrored ? under : beyond_light * u_glass_t;
+  vec3 beyond_light =
+      out_dir.z < -1e-5 || under_glass ? video : vec3(u_ambient);
+  vec3 below = floor_seen ? under : beyond_light * u_glass_t;
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

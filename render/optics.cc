@@ -160,6 +160,8 @@ bool WaterOptics::IsValid(std::string* error) const {
   if (!(ior >= 1.0f && ior <= 3.0f)) return fail("water ior must be in [1, 3]");
   if (!(glass_ior >= 1.0f && glass_ior <= 3.0f))
     return fail("glass ior must be in [1, 3]");
+  if (!(glass_thickness_m >= 0.0f && glass_thickness_m <= 0.05f))
+    return fail("glass thickness must be in [0, 0.05] m");
   if (!(ambient_share >= 0.0f && ambient_share <= 1.0f))
     return fail("ambient share must be in [0, 1]");
   if (!(light_angular_radius_rad >= 1e-4f && light_angular_radius_rad <= 0.5f))

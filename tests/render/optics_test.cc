@@ -186,6 +186,10 @@ TEST(OpticsTest, OptionsAndNames) {
   o = WaterOptics();
   o.absorption_per_m.r = std::nanf("");
   EXPECT_FALSE(o.IsValid(&error));
+  o = WaterOptics();
+  o.glass_thickness_m = -0.001f;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("glass thickness"), std::string::npos);
   WaterLook look;
   EXPECT_TRUE(ParseWaterLook("pool", &look));
   EXPECT_EQ(look, WaterLook::kPool);

@@ -210,7 +210,12 @@ glm::ivec4 PlateLookupRect(const FrameState& f,
   const double out_z = std::min(1.0, f.optics->ior / std::sqrt(1.0 + k * k));
   if (!std::isfinite(k) || out_z < 0.1) return WholeWindow(f);
   const double k_out = std::sqrt(1.0 - out_z * out_z) / out_z;
-  return SurfaceNear(f, q, (k + k_out) * depth + 0.001);
+  // A ray the glass totally reflects also moves along the wall inside it,
+  // by 2 d tan(theta_g) at most, and theta_g < asin(n_water / n_glass).
+  const double sin_g = std::min(f.optics->ior / f.optics->glass_ior, 0.999f);
+  const double glass_shift = 2.0 * f.optics->glass_thickness_m * sin_g /
+                             std::sqrt(1.0 - sin_g * sin_g);
+  return SurfaceNear(f, q, (k + k_out) * depth + glass_shift + 0.001);
 }
 
 }  // namespace ripple::render::internal

@@ -19,7 +19,9 @@
 //  - the clean plate: the refracted lookup point on the board (the floor,
 //    the floor in a wall's mirror, or the board beyond the glass) is seen in
 //    the occluder mask's window; it lies within (k + k_out) * depth of the
-//    surface point, k_out the travel of the ray that left through a wall.
+//    surface point, k_out the travel of the ray that left through a wall,
+//    plus the shift along a wall inside its glass of a ray the glass
+//    totally reflects.
 // A rectangle is empty ({0, 0, 0, 0}) when the effect touches nothing and
 // the whole window when the bound cannot be made (a point behind the
 // camera, the camera under the water, rays near the horizontal).

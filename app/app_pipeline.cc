@@ -178,14 +178,14 @@ void Pipeline::UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tr,
     input->reference = reference.get();
   }
   if (plate_) input->exclude = plate_->foreground().clone();
-  light_job_ = std::async(std::launch::async,
-                          [input, reference, options = options_.light_estimator,
-                           camera = camera_, pen = *rig_.pen] {
-                            tracking::LightEstimate estimate;
-                            tracking::EstimateLightFromShadow(
-                                options, camera, pen, *input, &estimate);
-                            return estimate;
-                          });
+  light_job_ = JoinedFuture<tracking::LightEstimate>(
+      light_worker_.Run([input, reference, options = options_.light_estimator,
+                         camera = camera_, pen = *rig_.pen] {
+        tracking::LightEstimate estimate;
+        tracking::EstimateLightFromShadow(options, camera, pen, *input,
+                                          &estimate);
+        return estimate;
+      }));
 }
 
 bool Pipeline::AddObstacleAt(double x_m, double y_m, std::string* error) {
@@ -316,13 +316,14 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   }
   // The next frame's tracking, beside this frame's water and render (the
   // tracker is this thread's no more until it is joined below).
-  std::future<tracking::FrameResult> next_job;
+  JoinedFuture<tracking::FrameResult> next_job;
   if (next != nullptr && !next->empty()) {
     next_data_ = next->data;
     next_time_s_ = next_time_s;
-    next_job = std::async(std::launch::async, [this, next, next_time_s] {
-      return tracker_->Track(*next, next_time_s);
-    });
+    next_job = JoinedFuture<tracking::FrameResult>(
+        tracking_worker_.Run([this, next, next_time_s] {
+          return tracker_->Track(*next, next_time_s);
+        }));
   }
   const tracking::FrameResult& tr = report.tracking;
   report.times.det = tr.timings.detect_ms;
@@ -331,11 +332,11 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   // Real objects in front of the tank, on the second core while the water
   // advances (they share nothing: the plate reads the frame and the poses,
   // the water the tip).
-  auto occ = std::async(std::launch::async, [&] {
+  JoinedFuture<double> occ(occ_worker_.Run([&] {
     const bench::Stopwatch occ_watch;
     UpdateRealObjects(bgr, tr);
     return occ_watch.ElapsedMs();
-  });
+  }));
 
   // Interaction and water.
   const bench::Stopwatch sim_watch;

@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 
+#include "app/app_worker.h"
 #include "bench/stage_table.h"
 #include "render/context.h"
 #include "render/renderer.h"
@@ -155,7 +156,7 @@ class Pipeline {
   // The light from the pen's shadow: estimated on a worker thread on copies
   // of every light_every_frames-th frame, held by the tracker.
   tracking::LightTracker light_tracker_;
-  std::future<tracking::LightEstimate> light_job_;
+  JoinedFuture<tracking::LightEstimate> light_job_;
   int frames_since_light_job_ = 0;
   void UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tracking,
                    FrameReport* report);
@@ -173,6 +174,12 @@ class Pipeline {
   cv::Mat composite_;
   double last_time_s_ = 0;
   bool have_time_ = false;
+  // The threads of the next frame's tracking, the real objects and the
+  // light estimate: the same three for every frame. Last, so that they are
+  // destroyed first, finishing their jobs while the state those use exists.
+  Worker tracking_worker_;
+  Worker occ_worker_;
+  Worker light_worker_;
 };
 
 }  // namespace ripple::app

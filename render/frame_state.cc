@@ -140,6 +140,18 @@ glm::ivec4 UnionRect(const glm::ivec4& a, const glm::ivec4& b) {
   return {x0, y0, x1 - x0, y1 - y0};
 }
 
+void ObstacleBoxCorners(const Obstacle& o, glm::dvec3 corners[8]) {
+  // The model's bounding box (Obstacle::size), base centre at the origin.
+  const bool box = o.shape == Obstacle::Shape::kBox;
+  const double hx = box ? 0.5 * o.size.x : o.size.x;
+  const double hy = box ? 0.5 * o.size.y : o.size.x;
+  for (int i = 0; i < 8; ++i) {
+    const glm::dvec4 p(i & 1 ? hx : -hx, i & 2 ? hy : -hy,
+                       i & 4 ? double(o.size.z) : 0.0, 1.0);
+    corners[i] = glm::dvec3(o.tank_from_obstacle * p);
+  }
+}
+
 glm::ivec4 OutputWindow(const FrameState& f, int pad) {
   const SceneInputs& scene = *f.scene;
   const TankGeometry& t = scene.tank;
@@ -148,16 +160,8 @@ glm::ivec4 OutputWindow(const FrameState& f, int pad) {
       BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
               std::max<double>(t.wall_height, t.water_level + 0.01), pad, w, h);
   for (const Obstacle& o : scene.obstacles) {
-    // The model's bounding box (Obstacle::size), base centre at the origin.
-    const bool box = o.shape == Obstacle::Shape::kBox;
-    const double hx = box ? 0.5 * o.size.x : o.size.x;
-    const double hy = box ? 0.5 * o.size.y : o.size.x;
     glm::dvec3 corners[8];
-    for (int i = 0; i < 8; ++i) {
-      const glm::dvec4 p(i & 1 ? hx : -hx, i & 2 ? hy : -hy,
-                         i & 4 ? double(o.size.z) : 0.0, 1.0);
-      corners[i] = glm::dvec3(o.tank_from_obstacle * p);
-    }
+    ObstacleBoxCorners(o, corners);
     r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 8, pad, w, h));
   }
   return r;

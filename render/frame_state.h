@@ -115,6 +115,9 @@ glm::ivec4 PointsRect(const glm::dmat4& clip_from_tank, const glm::dvec3* p,
 // The smallest rectangle holding both (an empty one counts as nothing).
 glm::ivec4 UnionRect(const glm::ivec4& a, const glm::ivec4& b);
 
+// The tank-frame corners of an obstacle's bounding box.
+void ObstacleBoxCorners(const Obstacle& o, glm::dvec3 corners[8]);
+
 // The output's window (x, y, w, h; window pixels, top row first): every
 // pixel a pass can change. That is the tank's box from its floor to the
 // wall tops (or the rest level + 1 cm, if higher) and every obstacle's

@@ -149,30 +149,27 @@ glm::ivec4 MirroredObjectsRect(const FrameState& f) {
   const SceneInputs& scene = *f.scene;
   const double two_level = 2.0 * scene.tank.water_level;
   std::vector<glm::dvec3> corners;
-  auto add_box = [&](const glm::dmat4& tank_from_model, const glm::dvec3& lo,
-                     const glm::dvec3& hi) {
-    for (int i = 0; i < 8; ++i) {
-      const glm::dvec4 p(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y,
-                         i & 4 ? hi.z : lo.z, 1.0);
-      glm::dvec3 t(tank_from_model * p);
-      t.z = two_level - t.z;
-      corners.push_back(t);
-    }
+  auto mirror = [&](const glm::dvec3* c) {
+    for (int i = 0; i < 8; ++i)
+      corners.emplace_back(c[i].x, c[i].y, two_level - c[i].z);
   };
   for (const Obstacle& o : scene.obstacles) {
-    // The model's bounding box (Obstacle::size), base centre at the origin.
-    const bool box = o.shape == Obstacle::Shape::kBox;
-    const double hx = box ? 0.5 * o.size.x : o.size.x;
-    const double hy = box ? 0.5 * o.size.y : o.size.x;
-    add_box(o.tank_from_obstacle, {-hx, -hy, 0.0}, {hx, hy, o.size.z});
+    glm::dvec3 c[8];
+    ObstacleBoxCorners(o, c);
+    mirror(c);
   }
   if (scene.pen_visible) {
     // The cube centred on the pen origin, the shaft along -z from its face.
     const PenGeometry& g = scene.pen;
     const double h = std::max<double>(0.5 * g.cube_edge, g.shaft_radius);
-    add_box(scene.tank_from_pen,
-            {-h, -h, -0.5 * g.cube_edge - g.shaft_length - g.shaft_radius},
-            {h, h, 0.5 * g.cube_edge});
+    const double z0 = -0.5 * g.cube_edge - g.shaft_length - g.shaft_radius;
+    glm::dvec3 c[8];
+    for (int i = 0; i < 8; ++i) {
+      const glm::dvec4 p(i & 1 ? h : -h, i & 2 ? h : -h,
+                         i & 4 ? 0.5 * g.cube_edge : z0, 1.0);
+      c[i] = glm::dvec3(scene.tank_from_pen * p);
+    }
+    mirror(c);
   }
   if (corners.empty()) return {0, 0, 0, 0};
   // The mirror is a quarter of the output each way, filtered: a texel and

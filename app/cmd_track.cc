@@ -100,7 +100,7 @@ struct TrackArgs {
   int threads = 1;
   std::string pen_mode = "joint";
   std::string face_selection = "uncertainty";
-  bool no_refine = false, no_roi = false, no_dense = false;
+  bool no_refine = false, no_roi = false, no_dense = false, no_shaft = false;
   SmoothingArgs smoothing;
   double tank_hold_s = tracking::TrackerOptions{}.tank_hold_s;
   double pen_hold_s = tracking::TrackerOptions{}.pen_hold_s;
@@ -120,6 +120,7 @@ int RunTrack(const TrackArgs& args) {
   options.face_selection = *tracking::ParseFaceSelection(args.face_selection);
   options.pose.refine = !args.no_refine;
   options.pen_dense.enabled = !args.no_dense;
+  options.pen_shaft.enabled = !args.no_shaft;
   options.roi.enabled = !args.no_roi;
   options.tank_hold_s = args.tank_hold_s;
   options.pen_hold_s = args.pen_hold_s;
@@ -226,6 +227,8 @@ CommandAction SetupTrack(CLI::App* sub) {
   sub->add_flag("--no-roi", args->no_roi, "Search the full frame every time");
   sub->add_flag("--no-dense", args->no_dense,
                 "Skip the pen's dense photometric refinement");
+  sub->add_flag("--no-shaft", args->no_shaft,
+                "Skip the refinement of the pen by its shaft's edges");
   AddSmoothingOptions(sub, &args->smoothing);
   sub->add_option("--hold", args->tank_hold_s,
                   "Seconds an occluded board stays 'held'")

@@ -45,14 +45,14 @@ struct Outcome {
 std::string SettingName(const tracking::TrackerOptions& o) {
   char buf[320];
   std::snprintf(
-      buf, sizeof(buf), "d%g %s%s%s %s%s", o.detector.quad_decimate,
+      buf, sizeof(buf), "d%g %s%s%s %s%s%s", o.detector.quad_decimate,
       o.pen_mode == tracking::PenMode::kJoint ? "joint" : "best-face",
       o.pen_mode == tracking::PenMode::kBestFace &&
               o.face_selection == tracking::FaceSelection::kMostFrontal
           ? "(frontal)"
           : "",
       o.pose.refine ? " ceres" : " ippe", o.roi.enabled ? "roi" : "full",
-      o.pen_dense.enabled ? " dense" : "");
+      o.pen_dense.enabled ? " dense" : "", o.pen_shaft.enabled ? " shaft" : "");
   std::string name = buf;
   // What a suspects sweep changes beyond the factors above.
   const tracking::TrackerOptions d;
@@ -127,6 +127,7 @@ bool IsDefault(const tracking::TrackerOptions& o) {
          o.pose.refine == defaults.pose.refine &&
          o.roi.enabled == defaults.roi.enabled &&
          o.pen_dense.enabled == defaults.pen_dense.enabled &&
+         o.pen_shaft.enabled == defaults.pen_shaft.enabled &&
          o.face_selection == defaults.face_selection &&
          o.detector.edge_fit == defaults.detector.edge_fit &&
          o.detector.edge_outward_px == defaults.detector.edge_outward_px &&
@@ -195,6 +196,16 @@ void Accumulate(const tracking::Rig& rig, const synth::FrameSpec& spec,
   row->tank_rot_deg = e.tank_rot_deg;
   row->pen_rot_deg = e.pen_rot_deg;
   row->tip_mm = e.tip_mm;
+  row->tip_los_mm = row->tip_across_mm = std::nan("");
+  if (estimate.tip_in_tank && truth.tip_in_tank) {
+    const Eigen::Vector3d camera_in_tank =
+        truth.cam_from_tank.Inverse() * Eigen::Vector3d::Zero();
+    const Eigen::Vector3d los =
+        (*truth.tip_in_tank - camera_in_tank).normalized();
+    const Eigen::Vector3d d = *estimate.tip_in_tank - *truth.tip_in_tank;
+    row->tip_los_mm = 1000 * d.dot(los);
+    row->tip_across_mm = 1000 * (d - d.dot(los) * los).norm();
+  }
   row->flip = e.flip;
 }
 
@@ -278,6 +289,9 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     o = defaults;
     o.pen_dense.enabled = !defaults.pen_dense.enabled;
     list.push_back(o);
+    o = defaults;
+    o.pen_shaft.enabled = !defaults.pen_shaft.enabled;
+    list.push_back(o);
   } else {
     list.push_back(defaults);
     for (double d : {1.0, 1.5, 2.0, 3.0, 4.0}) {
@@ -297,6 +311,9 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     list.push_back(o);
     o = defaults;
     o.pen_dense.enabled = !defaults.pen_dense.enabled;
+    list.push_back(o);
+    o = defaults;
+    o.pen_shaft.enabled = !defaults.pen_shaft.enabled;
     list.push_back(o);
   }
   if (sweep == Sweep::kShort || sweep == Sweep::kFull) {
@@ -628,7 +645,8 @@ void WriteTrackingCsvRows(const TrackingBenchOptions& options,
 }
 
 void WriteTrackingFramesCsvHeader(std::ostream* csv) {
-  *csv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,flip,"
+  *csv << "size,frame,setting,tank_rot_deg,pen_rot_deg,tip_mm,tip_los_mm,"
+          "tip_across_mm,flip,"
           "pen_faces_visible,pen_face_px,pen_status,pen_tags,"
           "pen_flip_rejected,pen_jumped,pen_ambiguous,motion_blur_px,"
           "defocus_px,occluders,static\n";
@@ -640,11 +658,12 @@ void WriteTrackingFramesCsvRows(const std::string& size,
   for (const TrackingFrameRow& r : result.frame_rows)
     *csv << size << ',' << r.frame << ",\"" << r.setting << "\","
          << r.tank_rot_deg << ',' << r.pen_rot_deg << ',' << r.tip_mm << ','
-         << r.flip << ',' << r.pen_faces_visible << ',' << r.pen_face_px << ','
-         << r.pen_status << ',' << r.pen_tags << ',' << r.pen_flip_rejected
-         << ',' << r.pen_jumped << ',' << r.pen_ambiguous << ','
-         << r.motion_blur_px << ',' << r.defocus_px << ',' << r.occluders << ','
-         << r.is_static << '\n';
+         << r.tip_los_mm << ',' << r.tip_across_mm << ',' << r.flip << ','
+         << r.pen_faces_visible << ',' << r.pen_face_px << ',' << r.pen_status
+         << ',' << r.pen_tags << ',' << r.pen_flip_rejected << ','
+         << r.pen_jumped << ',' << r.pen_ambiguous << ',' << r.motion_blur_px
+         << ',' << r.defocus_px << ',' << r.occluders << ',' << r.is_static
+         << '\n';
 }
 
 }  // namespace ripple::bench

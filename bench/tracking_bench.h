@@ -100,6 +100,9 @@ struct TrackingFrameRow {
   int frame = 0;
   std::string setting;
   double tank_rot_deg = 0, pen_rot_deg = 0, tip_mm = 0;  // NaN when absent
+  // The tip's error split along the true tip's line of sight (signed, + away
+  // from the camera) and across it, mm; NaN when absent.
+  double tip_los_mm = 0, tip_across_mm = 0;
   bool flip = false;
   int pen_faces_visible = 0;  // ground truth
   double pen_face_px = 0;     // largest detected pen face, pixels

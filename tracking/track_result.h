@@ -32,7 +32,7 @@ struct ObjectTrack {
 struct FrameTimings {
   double detect_ms = 0;  // grey conversion + detection (all searches)
   double pose_ms = 0;    // pose estimation and temporal logic
-  double dense_ms = 0;   // of which the pen's dense refinement
+  double dense_ms = 0;   // of which the pen's dense and shaft refinements
   double total_ms = 0;
   bool full_search = true;  // the whole frame was searched
 };

@@ -100,6 +100,7 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!detector.IsValid(error)) return false;
   if (!pose.IsValid(error)) return false;
   if (!pen_dense.IsValid(error)) return false;
+  if (!pen_shaft.IsValid(error)) return false;
   if (!smoothing.IsValid(error)) return false;
   if (!pen_hypotheses.IsValid(error)) return false;
   if (!roi.IsValid(error)) return false;
@@ -401,7 +402,8 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
     // The dense model's gain and offset are linear in light: sRGB-encoded
     // values are decoded first.
     const cv::Mat* dense_gray = gray;
-    if (pen_estimate && gray && pen_dense_model_ &&
+    if (pen_estimate && gray &&
+        (pen_dense_model_ || options_.pen_shaft.enabled) &&
         options_.detector.transfer != geometry::Transfer::kLinear) {
       if (decode_lut_.empty())
         decode_lut_ = DecodeToLinearLut(options_.detector.transfer);
@@ -412,8 +414,15 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
                          DenseRefinePose(*dense_gray, camera_,
                                          *pen_dense_model_, options_.pen_dense,
                                          &pen_estimate->pose.cam_from_object);
+    // The shaft's edges in linear light too: a symmetric blur leaves the
+    // steepest point of a linear-light step where the step is.
+    const bool shaft_refined =
+        pen_estimate && gray &&
+        ShaftRefinePose(*dense_gray, camera_, *rig_.pen, pen_obs,
+                        options_.pen_shaft,
+                        &pen_estimate->pose.cam_from_object);
     r.timings.dense_ms = NowMs() - t_dense;
-    if (refined) {
+    if (refined || shaft_refined) {
       int corners = 0;
       const double sse = ReprojectionSse(
           camera_, pen_obs, pen_estimate->pose.cam_from_object, &corners);

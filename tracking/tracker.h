@@ -33,6 +33,7 @@
 #include "tracking/pose_filter.h"
 #include "tracking/rig.h"
 #include "tracking/roi_search.h"
+#include "tracking/shaft_refine.h"
 #include "tracking/tag_detector.h"
 #include "tracking/track_result.h"
 
@@ -127,6 +128,11 @@ struct TrackerOptions {
   // the image: Track() applies it, TrackDetections() when given the grey
   // frame.
   DenseRefineOptions pen_dense;
+
+  // Refinement of the pen's pose by its shaft's silhouette edges
+  // (tracking/shaft_refine.h), after the dense step; needs the image as the
+  // dense step does.
+  ShaftRefineOptions pen_shaft;
 
   bool IsValid(std::string* error) const;
 };

@@ -247,21 +247,15 @@ bool FindEdges(const cv::Mat& gray, const Camera& camera, const PenSpec& pen,
   return true;
 }
 
-// The shaft's apparent radius.
-struct Profile {
-  double radius = 0;
-  double At(double) const { return radius; }
-};
-
 // Tangency residuals (pixels) of the edges at a pose.
 void Residuals(const PenSpec& pen, const std::array<std::vector<Edge>, 2>& e,
-               const Pose& cam_from_pen, const Profile& profile,
+               const Pose& cam_from_pen, double radius,
                std::vector<double>* r) {
   const Axis axis = AxisInCamera(pen, cam_from_pen);
   r->clear();
   for (const auto& side : e)
     for (const Edge& edge : side)
-      r->push_back(edge.scale * Tangency(axis, profile.At(edge.s), edge.ray));
+      r->push_back(edge.scale * Tangency(axis, radius, edge.ray));
 }
 
 double HuberWeight(double r, double k) {
@@ -321,30 +315,26 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
                      (options.corner_sigma_px * options.corner_sigma_px);
   const double w_edge = 1.0 / (options.edge_sigma_px * options.edge_sigma_px);
   Pose pose = start;
-  Profile profile;
-  profile.radius = pen.shaft_radius_m;
+  double radius = pen.shaft_radius_m;  // fitted with the pose
   std::array<std::vector<Edge>, 2> edges;
   std::vector<double> r, r_plus, r_minus;
   bool searched_start = false;
   for (int search = 0; search < 2; ++search) {
     // The second search looks half as far, around the refined pose.
     const double window = options.search_px * (search ? 0.5 : 1.0);
-    if (!FindEdges(gray, camera, pen, options, pose, profile.radius, window,
-                   &edges)) {
+    if (!FindEdges(gray, camera, pen, options, pose, radius, window, &edges)) {
       if (search == 0) return false;
       break;
     }
     res.edges[0] = static_cast<int>(edges[0].size());
     res.edges[1] = static_cast<int>(edges[1].size());
     if (!searched_start) {
-      Profile rig_profile = profile;
-      rig_profile.radius = pen.shaft_radius_m;
-      Residuals(pen, edges, start, rig_profile, &r);
+      Residuals(pen, edges, start, pen.shaft_radius_m, &r);
       res.rms_before_px = Rms(r, options.huber_px);
       searched_start = true;
     }
     for (int it = 0; it < options.iterations; ++it) {
-      Residuals(pen, edges, pose, profile, &r);
+      Residuals(pen, edges, pose, radius, &r);
       // The two motions the shaft's image line measures: a turn about the
       // line of sight through the cube's centre (the line's angle) and a
       // shift across both that line of sight and the shaft (the line's
@@ -365,8 +355,8 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
       Eigen::MatrixXd j(m, 3);
       for (int c = 0; c < 2; ++c) {
         const Vec6 d = 1e-6 * basis.col(c);
-        Residuals(pen, edges, Perturbed(pose, d), profile, &r_plus);
-        Residuals(pen, edges, Perturbed(pose, -d), profile, &r_minus);
+        Residuals(pen, edges, Perturbed(pose, d), radius, &r_plus);
+        Residuals(pen, edges, Perturbed(pose, -d), radius, &r_minus);
         for (int i = 0; i < m; ++i) j(i, c) = (r_plus[i] - r_minus[i]) / 2e-6;
       }
       int i = 0;
@@ -380,7 +370,7 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
       g.head<2>() = basis.transpose() * prior * Difference(start, pose);
       h(2, 2) =
           (options.free_radius ? 1e-6 : 1e6) * w_edge * j.col(2).squaredNorm();
-      g(2) = h(2, 2) * (profile.radius - pen.shaft_radius_m);
+      g(2) = h(2, 2) * (radius - pen.shaft_radius_m);
       for (i = 0; i < m; ++i) {
         const double w = w_edge * HuberWeight(r[i], options.huber_px);
         h += w * j.row(i).transpose() * j.row(i);
@@ -389,11 +379,11 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
       const Eigen::Vector3d x = h.ldlt().solve(-g);
       if (!x.allFinite()) return false;
       pose = Perturbed(pose, basis * x.head<2>());
-      profile.radius += x[2];
+      radius += x[2];
       if (std::abs(x[0]) < 1e-7 && std::abs(x[1]) < 1e-8) break;
     }
   }
-  Residuals(pen, edges, pose, profile, &r);
+  Residuals(pen, edges, pose, radius, &r);
   res.rms_after_px = Rms(r, options.huber_px);
   const Vec6 moved = Difference(start, pose);
   if (moved.head<3>().norm() * 180 / kPi > options.max_rotation_deg ||

@@ -6,20 +6,23 @@
 // seen over a hundred pixels or more, fixes the image line of its axis far
 // better. Each of its two silhouette lines is the trace of a plane through
 // the camera centre tangent to the cylinder, so an edge pixel whose ray
-// passes at the shaft's radius from the axis is explained exactly; rays
-// from both sides together also measure the axis's distance (the shaft's
-// apparent width).
+// passes at the shaft's radius from the axis is explained exactly.
 //
 // The step samples points along the shaft's visible length, searches each
 // side's edge along the predicted contour's normal (the strongest step of
-// the side's common polarity, to a fraction of a pixel), and fuses those
-// edges with the starting pose: Gauss-Newton on the 6-DoF pose with the
-// edges' tangency residuals (pixels, Huber) and a Gaussian prior on the
-// pose whose information is the corners' (J^T J over the detected corners,
-// scaled by the corners' noise), so the directions the shaft does not see
-// (the roll about its axis, the cube's position along the axis) stay where
-// the corners and the dense step put them. The edges are searched once at
-// the start and once more at the refined pose.
+// the side's common polarity, to a fraction of a pixel), keeps the edges on
+// the straight line most of them lie on (a silhouette line is straight in
+// undistorted coordinates), and moves the pose along the two motions the
+// image line of the axis measures: a turn about the line of sight through
+// the cube's centre and a shift across that line of sight and the shaft.
+// Gauss-Newton on those two and the shaft's apparent radius, with the
+// edges' tangency residuals (pixels, Huber) and, as the prior, the corners'
+// information (J^T J over the detected corners, scaled by their noise)
+// projected on the two motions. The rest (the distance, the tilt towards the
+// camera, the roll about the shaft) stays where the corners and the dense
+// step put it: the shaft's width and its change along the shaft measure
+// those far worse (docs/tracking.md). The edges are searched once at the
+// start and once more at the refined pose.
 //
 // The result is kept only when enough edges were found on both sides and
 // it stays within a few degrees and millimetres of the start

@@ -15,10 +15,11 @@ bool WallsPass::Create(const Options& options, std::string* error) {
                     error)) {
     return false;
   }
-  for (int v = 0; v < 4; ++v) {
+  for (int v = 0; v < 8; ++v) {
     std::string front = defines + "#define FRONT_WALL 1\n";
     if (v & 1) front += "#define SHADOWS 1\n";
     if (v & 2) front += "#define CAUSTICS 1\n";
+    if (v & 4) front += "#define UNDER_SURFACE 1\n";
     if (!BuildProgram(&programs_[1 + v], "front walls", "walls.vert",
                       "walls.frag", front, error)) {
       return false;
@@ -57,31 +58,48 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   const glm::dvec3 hs(0.5 * t.size_x, 0.5 * t.size_y, 0);
   const double outside[4] = {-hs.y - cam.y, cam.x - hs.x, cam.y - hs.y,
                              -hs.x - cam.x};
-  // Front walls: under the water (and a margin for the waves) with the
-  // FRONT_WALL program, above it with the plain one, which is the same
-  // there.
-  const float split =
-      std::min(t.wall_height, t.water_level + kFrontWallMargin_m);
+  // Front walls: between the surface's lowest and highest points (this
+  // frame's height range, widened by the meniscus's width) with the
+  // FRONT_WALL program, which tests each pixel against the surface; above
+  // with the plain one, which is the same there; under with the variant
+  // that skips the test.
+  const HeightFieldInfo& h = f.height;
+  const float split = std::clamp(
+      t.water_level + h.decode_offset.x + h.decode_scale.x + kSurfaceSlack_m,
+      0.0f, t.wall_height);
+  const float deep = std::clamp(
+      t.water_level + h.decode_offset.x - kSurfaceSlack_m, 0.0f, split);
+  // Far walls: nothing under the lowest point of the surface shows. A ray
+  // from the camera (above the water) to such a point crosses the surface
+  // mesh inside the tank, whose depth hides it, or enters through a front
+  // wall under the water, whose program replaces the pixel.
+  const float far_bottom = deep;
   const Effects& fx = f.scene->effects;
   const int front_program = 1 + (fx.shadows ? 1 : 0) + (fx.caustics ? 2 : 0);
-  for (int pass = 0; pass < 2; ++pass) {
-    const int p = pass == 0 ? 0 : front_program;
+  // (program, z range, which walls), farthest first (the blend is not
+  // commutative where a front wall covers a far one at the corners): far
+  // walls; the front walls' part over the water, near the surface, under
+  // it.
+  struct Part {
+    int program;
+    float z0, z1;
+    bool front;
+  };
+  const Part parts[4] = {{0, far_bottom, t.wall_height, false},
+                         {0, split, t.wall_height, true},
+                         {front_program, deep, split, true},
+                         {front_program + 4, 0.0f, deep, true}};
+  for (const Part& part : parts) {
+    if (!(part.z1 > part.z0)) continue;
+    const int p = part.program;
     common_[p].Set(programs_[p], f, f.clip_from_tank);
     SetUniform(floor_sky_[p], f.shading.floor_sky);
     SetUniform(floor_sun_[p], f.shading.floor_sun);
     glUniform1f(inv_n2_[p], f.shading.inv_n2);
     SetUniform(return_tint_[p], return_tint);
+    glUniform2f(z_range_[p], part.z0, part.z1);
     for (int i = 0; i < 4; ++i) {
-      const bool front = outside[i] > 0;
-      if (pass == 1 && !front) continue;
-      if (pass == 0 && front) {
-        glUniform2f(z_range_[p], split, t.wall_height);
-      } else if (pass == 1) {
-        glUniform2f(z_range_[p], 0.0f, split);
-      } else {
-        glUniform2f(z_range_[p], 0.0f, t.wall_height);
-      }
-      glDrawArrays(GL_TRIANGLES, 6 * i, 6);
+      if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }
   }
   glBindVertexArray(0);

@@ -35,16 +35,18 @@ class WallsPass {
 
  private:
   // Far walls, then the front walls' variants: + 1 with shadows, + 2 with
-  // caustics (the floor seen through the glass reads their maps).
-  static constexpr int kPrograms = 5;
+  // caustics (the floor seen through the glass reads their maps), + 4
+  // under the surface's lowest point.
+  static constexpr int kPrograms = 9;
   Program programs_[kPrograms];
   CommonUniforms common_[kPrograms];
   GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
         return_tint_[kPrograms] = {};
-  // Height above the rest level up to which front walls take the
-  // FRONT_WALL program (waves rarely rise higher at the glass).
-  static constexpr float kFrontWallMargin_m = 0.006f;
+  // The walls' parts are cut this far outside the surface's height range:
+  // the meniscus line is 0.7 mm wide, and the range's 8-bit code and the
+  // mesh's filtering stay well inside it.
+  static constexpr float kSurfaceSlack_m = 0.001f;
 };
 
 }  // namespace ripple::render::internal

@@ -9,6 +9,9 @@
 // 1/n^2 on the way out), on the underside of the surface (its mirror image of
 // the floor, or the sky through it) or on the far wall (what lies beyond).
 //
+// With UNDER_SURFACE too, the part of a front wall under the surface's
+// lowest point, where neither the surface test nor the meniscus is needed.
+//
 // Elsewhere (above the water, walls facing away) the blend runs on encoded
 // values: the glass's exact Fresnel reflection of the sky is computed in
 // linear light as dst * T + C and carried into the encoded output to first
@@ -64,9 +67,10 @@ vec4 Exits(vec3 p, vec3 d) {
 void main() {
   vec3 v = normalize(v_p - u_cam_in_tank);
   vec2 half_size = 0.5 * u_tank.xy;
+#ifndef UNDER_SURFACE
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
+#endif
   vec3 color = vec3(0.0);
-  vec3 transmit = vec3(1.0);
   vec3 nrm = normalize(v_n);
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
@@ -74,7 +78,11 @@ void main() {
   // daylight sky) by the mirrored ray.
   vec3 sky_seen = Environment(reflect(v, nrm), vec3(u_ambient));
 #ifdef FRONT_WALL
+#ifdef UNDER_SURFACE
+  {
+#else
   if (v_p.z < surface) {
+#endif
     // The slab's two interfaces: air-glass outside, glass-water inside (the
     // ray's cosine in the glass by Snell); both reflect the sky's mirror
     // direction, and the rest enters the water.
@@ -108,19 +116,25 @@ void main() {
                sky_seen * r_glass;
     float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
     float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
+#ifdef UNDER_SURFACE
+    float a = clamp(0.45 * rim, 0.0, 1.0);
+#else
     float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));
     float a = clamp(0.45 * rim + 0.3 * meniscus, 0.0, 1.0);
+#endif
     o_color = vec4(mix(EncodeOutput(lin), vec3(0.9, 0.97, 1.0), a), 1.0);
     o_transmit = vec4(0.0);
     return;
   }
 #endif
+#ifndef UNDER_SURFACE
   // Glass: two faces reflecting the sky (radiance u_ambient) or the
-  // environment by Fresnel.
+  // environment by Fresnel; the glass is grey, one transmittance for the
+  // three bands.
   color = color * (1.0 - r_glass) + sky_seen * r_glass;
-  transmit *= 1.0 - r_glass;
+  float transmit = 1.0 - r_glass;
   if (u_srgb_out > 0.5) {
-    transmit = pow(transmit, vec3(1.0 / 2.2));
+    transmit = pow(transmit, 1.0 / 2.2);
     color *= 0.66;
   }
   // Bright rims at the top edge and the corners, and a bright line where
@@ -132,5 +146,6 @@ void main() {
   color = color * (1.0 - a) + vec3(0.9, 0.97, 1.0) * a;
   transmit *= 1.0 - a;
   o_color = vec4(color, 1.0);
-  o_transmit = vec4(transmit, 1.0);
+  o_transmit = vec4(vec3(transmit), 1.0);
+#endif
 }

@@ -199,6 +199,55 @@ TEST(EffectsTest, WaterRegionsLeaveTheImageUnchanged) {
   }
 }
 
+// The front glass shows the water up to wherever the surface stands: a
+// surface raised 8 mm everywhere (above any fixed margin for waves) must look
+// through the front wall as the same tank filled 8 mm higher at rest. The
+// band compared lies 6.5-7.5 mm over the lower rest level; without the
+// water there (the lower tank at rest) it shows dry glass, far from both.
+TEST(EffectsTest, FrontGlassFollowsTheSurfaceAtAnyHeight) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene raised = MakeScene(kW, kH, View::kFront, false);
+  raised.inputs.tank.wall_height = 0.05f;
+  for (float& h : raised.heights) h = 0.008f;
+  raised.inputs.water.change_counter = 2;
+  TestScene filled = MakeScene(kW, kH, View::kFront, false);
+  filled.inputs.tank.wall_height = 0.05f;
+  filled.inputs.tank.water_level += 0.008f;
+  TestScene dry = MakeScene(kW, kH, View::kFront, false);
+  dry.inputs.tank.wall_height = 0.05f;
+  for (TestScene* s : {&raised, &filled, &dry})
+    s->inputs.effects.caustics = s->inputs.effects.shadows = false;
+  auto r = Renderer::TryCreate(ctx.get(), raised.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat a = RenderScene(r.get(), raised.inputs);
+  const cv::Mat b = RenderScene(r.get(), filled.inputs);
+  const cv::Mat c = RenderScene(r.get(), dry.inputs);
+  // Pixels of the front wall (y = -size_y / 2) in the band.
+  const TankGeometry& t = dry.inputs.tank;
+  const glm::dmat4 clip_from_tank = r->ClipFromTank(dry.inputs.cam_from_tank);
+  double ab = 0, ac = 0;
+  int n = 0;
+  for (double z = t.water_level + 0.0065; z <= t.water_level + 0.0075;
+       z += 0.0005) {
+    for (double x = -0.06; x <= 0.06; x += 0.002) {
+      const glm::dvec2 px = PixelFromWindow(WindowFromClip(
+          clip_from_tank * glm::dvec4(x, -0.5 * t.size_y, z, 1), kW, kH));
+      const int u = static_cast<int>(std::lround(px.x));
+      const int v = static_cast<int>(std::lround(px.y));
+      ASSERT_TRUE(u >= 0 && u < kW && v >= 0 && v < kH);
+      for (int ch = 0; ch < 3; ++ch) {
+        ab += std::abs(a.at<cv::Vec3b>(v, u)[ch] - b.at<cv::Vec3b>(v, u)[ch]);
+        ac += std::abs(a.at<cv::Vec3b>(v, u)[ch] - c.at<cv::Vec3b>(v, u)[ch]);
+      }
+      n += 3;
+    }
+  }
+  // The two water tanks differ only in what depends on the rest depth (the
+  // floor-return map and the floor's light are computed for it).
+  EXPECT_LT(ab / n, 2.0) << "raised surface against the filled tank";
+  EXPECT_GT(ac / n, 10.0) << "the band over the dry tank is dry glass";
+}
+
 // The shadow map is redrawn only when an occluder moved by more than the
 // threshold or the light changed; caustics only when the surface changed.
 // An idle scene skips both.

@@ -236,6 +236,15 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   std::vector<int> ys = {rect.y, rect.y + rect.w};
   for (int i = 0; i < 3; ++i) {
     if (!use[i]) continue;
+    // Grown out to llvmpipe's 4x4 blocks: a block that a cell's scissor
+    // cuts is shaded whole (its pixels outside masked), so an edge inside a
+    // block would shade it once per side. A larger region is still right.
+    if (region[i].z > 0 && region[i].w > 0) {
+      const int x0 = region[i].x & ~3, y0 = region[i].y & ~3;
+      const int x1 = (region[i].x + region[i].z + 3) & ~3;
+      const int y1 = (region[i].y + region[i].w + 3) & ~3;
+      region[i] = {x0, y0, x1 - x0, y1 - y0};
+    }
     region[i] = IntersectRect(region[i], rect);
     if (region[i].z <= 0 || region[i].w <= 0) continue;
     xs.insert(xs.end(), {region[i].x, region[i].x + region[i].z});

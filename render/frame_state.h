@@ -42,6 +42,13 @@ struct HeightFieldInfo {
   // (metres, slopes).
   glm::vec3 decode_scale{0.0f};
   glm::vec3 decode_offset{0.0f};
+  // The steepest slope |grad h| over each tile of the field and its eight
+  // neighbours (so over every texel that filtering mixes into the tile's
+  // lookups), tiles_x * tiles_y row-major from the field's (-x, -y)
+  // corner, each tile_m metres square; null for a flat field.
+  const float* tile_slope = nullptr;
+  int tiles_x = 0, tiles_y = 0;
+  float tile_m = 0.0f;
 };
 
 // Tank frame -> shadow map texture coordinates and its sampling constants

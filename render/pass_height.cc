@@ -34,6 +34,7 @@ void HeightTexturePass::AllocateFlat() {
   AllocTexture(&texture_, GL_RGBA8, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, GL_LINEAR,
                GL_CLAMP_TO_EDGE, &zero);
   decode_scale_ = decode_offset_ = glm::vec3(0.0f);
+  tiles_x_ = tiles_y_ = 0;
   nx_ = ny_ = 1;
   counter_.reset();
 }
@@ -46,7 +47,49 @@ HeightFieldInfo HeightTexturePass::info() const {
   i.texel = {1.0f / nx_, 1.0f / ny_};
   i.decode_scale = decode_scale_;
   i.decode_offset = decode_offset_;
+  if (tiles_x_ > 0 && tiles_y_ > 0) {
+    i.tile_slope = tile_slope_.data();
+    i.tiles_x = tiles_x_;
+    i.tiles_y = tiles_y_;
+    i.tile_m = tile_m_;
+  }
   return i;
+}
+
+void HeightTexturePass::UpdateSlopeTiles(int nx, int ny, float cell_m) {
+  const size_t n = static_cast<size_t>(nx) * ny;
+  const float* px = planes_.data() + n;
+  const float* py = px + n;
+  const int tx = (nx + kTileCells - 1) / kTileCells;
+  const int ty = (ny + kTileCells - 1) / kTileCells;
+  tile_max_.assign(static_cast<size_t>(tx) * ty, 0.0f);
+  for (int j = 0; j < ny; ++j) {
+    const float* ox = px + static_cast<size_t>(j) * nx;
+    const float* oy = py + static_cast<size_t>(j) * nx;
+    float* row = tile_max_.data() + static_cast<size_t>(j / kTileCells) * tx;
+    for (int t = 0; t < tx; ++t) {
+      const int i1 = std::min(nx, (t + 1) * kTileCells);
+      float m = row[t];
+      for (int i = t * kTileCells; i < i1; ++i)
+        m = std::max(m, ox[i] * ox[i] + oy[i] * oy[i]);
+      row[t] = m;
+    }
+  }
+  // Each tile takes its neighbours' steepest slope too: a lookup near the
+  // tile's edge filters texels of the next tile.
+  tile_slope_.resize(tile_max_.size());
+  for (int j = 0; j < ty; ++j) {
+    for (int i = 0; i < tx; ++i) {
+      float m = 0.0f;
+      for (int b = std::max(0, j - 1); b <= std::min(ty - 1, j + 1); ++b)
+        for (int a = std::max(0, i - 1); a <= std::min(tx - 1, i + 1); ++a)
+          m = std::max(m, tile_max_[static_cast<size_t>(b) * tx + a]);
+      tile_slope_[static_cast<size_t>(j) * tx + i] = std::sqrt(m);
+    }
+  }
+  tiles_x_ = tx;
+  tiles_y_ = ty;
+  tile_m_ = kTileCells * cell_m;
 }
 
 bool HeightTexturePass::Update(const SceneInputs& scene) {
@@ -132,6 +175,7 @@ bool HeightTexturePass::Update(const SceneInputs& scene) {
   }
   decode_offset_ = lo;
   decode_scale_ = hi - lo;
+  UpdateSlopeTiles(nx, ny, w.cell_size);
   if (resized) {
     AllocTexture(&texture_, GL_RGBA8, nx, ny, GL_RGBA, GL_UNSIGNED_BYTE,
                  GL_LINEAR, GL_CLAMP_TO_EDGE, packed_.data());

@@ -36,7 +36,15 @@ class HeightTexturePass {
   std::optional<std::uint64_t> counter_;  // nullopt: flat
   glm::vec2 extent_{1.0f};                // metres
   glm::vec3 decode_scale_{0.0f}, decode_offset_{0.0f};
-  std::vector<float> planes_;          // h, then dh/dx, then dh/dy planes
+  // Cells per side of a slope tile (HeightFieldInfo::tile_slope).
+  static constexpr int kTileCells = 8;
+  void UpdateSlopeTiles(int nx, int ny, float cell_m);
+
+  std::vector<float> planes_;    // h, then dh/dx, then dh/dy planes
+  std::vector<float> tile_max_;  // per tile, then dilated: tile_slope_
+  std::vector<float> tile_slope_;
+  int tiles_x_ = 0, tiles_y_ = 0;
+  float tile_m_ = 0.0f;
   std::vector<std::uint32_t> packed_;  // the same coded, RGBA8 (upload)
 };
 

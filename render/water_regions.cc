@@ -190,7 +190,46 @@ glm::ivec4 MirrorLookupRect(const FrameState& f,
                        {level - kWaveRange_m, level + kWaveRange_m}, &q)) {
     return WholeWindow(f);
   }
-  return SurfaceNear(f, q, 2.0 * kMirrorDepth_m * SlopeMax(f) + 0.001);
+  const HeightFieldInfo& h = f.height;
+  if (h.tile_slope == nullptr) {
+    return SurfaceNear(f, q, 2.0 * kMirrorDepth_m * SlopeMax(f) + 0.001);
+  }
+  // Tile by tile, with the tile's own steepest slope: the surface points of
+  // a tile within its reach of the lookup points' box. The field's border
+  // tiles reach out to the tank's walls and beyond (clamped lookups).
+  glm::dvec2 lo(1e300), hi(-1e300);
+  for (const glm::dvec3& p : q) {
+    lo = glm::min(lo, glm::dvec2(p));
+    hi = glm::max(hi, glm::dvec2(p));
+  }
+  // The slopes' 8-bit code rounds by up to half a step.
+  const double code_step =
+      0.5 * std::hypot(h.decode_scale.y, h.decode_scale.z) / 255.0;
+  const glm::dvec2 origin = -0.5 * glm::dvec2(h.extent);
+  constexpr double kFar = 1e3;  // metres: "unbounded" for border tiles
+  std::vector<glm::dvec3> pts;
+  for (int j = 0; j < h.tiles_y; ++j) {
+    for (int i = 0; i < h.tiles_x; ++i) {
+      const double slope = h.tile_slope[static_cast<size_t>(j) * h.tiles_x + i];
+      const double reach = 2.0 * kMirrorDepth_m * (slope + code_step) + 0.001;
+      glm::dvec2 t0 = origin + glm::dvec2(i, j) * double(h.tile_m);
+      glm::dvec2 t1 = t0 + glm::dvec2(h.tile_m);
+      if (i == 0) t0.x = -kFar;
+      if (j == 0) t0.y = -kFar;
+      if (i == h.tiles_x - 1) t1.x = kFar;
+      if (j == h.tiles_y - 1) t1.y = kFar;
+      const glm::dvec2 a = glm::max(t0, lo - reach);
+      const glm::dvec2 b = glm::min(t1, hi + reach);
+      if (!(a.x <= b.x && a.y <= b.y)) continue;
+      for (const double z : {level - kWaveRange_m, level + kWaveRange_m}) {
+        for (int c = 0; c < 4; ++c)
+          pts.emplace_back(c & 1 ? b.x : a.x, c & 2 ? b.y : a.y, z);
+      }
+    }
+  }
+  if (pts.empty()) return {0, 0, 0, 0};
+  return PointsRect(f.clip_from_tank, pts.data(), static_cast<int>(pts.size()),
+                    2, f.k->width, f.k->height);
 }
 
 glm::ivec4 PlateLookupRect(const FrameState& f,

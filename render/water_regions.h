@@ -15,7 +15,10 @@
 //    normals tilted up to the steepest slope);
 //  - the mirror (pass_mirror.h): the lookup at the surface point displaced by
 //    2 * kMirrorDepth_m * the normal's xy lands where the mirror holds
-//    something, the mirrored objects' screen box;
+//    something, the mirrored objects' screen box; the displacement is
+//    bounded tile by tile by the steepest slope around each tile of the
+//    field (HeightFieldInfo::tile_slope), so calm water far from the
+//    objects takes no mirror;
 //  - the clean plate: the refracted lookup point on the board (the floor,
 //    the floor in a wall's mirror, or the board beyond the glass) is seen in
 //    the occluder mask's window; it lies within (k + k_out) * depth of the

@@ -11,8 +11,10 @@
 #include <vector>
 
 #include "render/gl.h"
+#include "render/pass_height.h"
 #include "render/pass_water.h"
 #include "render/renderer.h"
+#include "render/water_regions.h"
 #include "tests/render/golden.h"
 #include "tests/render/render_test_util.h"
 
@@ -133,12 +135,22 @@ TEST(EffectsTest, WaterRegionsLeaveTheImageUnchanged) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   RendererOptions split, every;
   every.water_regions = false;
+  // The ripple centred in the tank, and at the pillar (whose mirror image
+  // the steep slopes there displace most).
+  struct Case {
+    double amplitude, x0, y0;
+  };
+  const Case cases[] = {{0.0, 0.0, 0.0},
+                        {0.0003, 0.02, 0.0},
+                        {0.0015, 0.02, 0.0},
+                        {0.0015, 0.045, 0.015}};
   for (const View view : {View::kFront, View::kTilted, View::kTop}) {
-    for (const double amplitude : {0.0, 0.0003, 0.0015}) {
+    for (const Case& c : cases) {
+      const double amplitude = c.amplitude;
       TestScene s = SceneWithOccluders(view);
       for (float& h : s.heights) h *= 0.0;
       if (amplitude > 0) {
-        TestScene rippled = MakeScene(kW, kH, view, true);
+        TestScene rippled = MakeScene(kW, kH, view, true, false, c.x0, c.y0);
         s.heights = rippled.heights;
         for (float& h : s.heights) h *= amplitude / 0.0015;
         s.inputs.water.change_counter = 2;
@@ -177,7 +189,8 @@ TEST(EffectsTest, WaterRegionsLeaveTheImageUnchanged) {
       cv::Mat diff;
       cv::absdiff(with_regions, everywhere, diff);
       EXPECT_EQ(cv::countNonZero(diff.reshape(1)), 0)
-          << "view " << int(view) << ", amplitude " << amplitude;
+          << "view " << int(view) << ", amplitude " << amplitude << " at "
+          << c.x0 << ", " << c.y0;
       // Each effect changes the image somewhere.
       SceneInputs no_real = s.inputs;
       no_real.effects.real_objects = false;
@@ -246,6 +259,91 @@ TEST(EffectsTest, FrontGlassFollowsTheSurfaceAtAnyHeight) {
   // floor-return map and the floor's light are computed for it).
   EXPECT_LT(ab / n, 2.0) << "raised surface against the filled tank";
   EXPECT_GT(ac / n, 10.0) << "the band over the dry tank is dry glass";
+}
+
+// The mirror's region holds every pixel whose lookup lands in the mirrored
+// objects' window: each pixel's ray is cast against the field on the CPU
+// (bilinear heights, slopes by differences), its lookup point moved by
+// 2 kMirrorDepth_m times the normal's xy and projected. A steep ripple
+// 3 cm from the pillar sends some lookups far; the tiles' slopes must cover
+// them, and zero slopes must not in at least one view (else the check
+// proves nothing).
+TEST(EffectsTest, MirrorRegionHoldsEveryLookupIntoTheMirror) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  int beyond_calm = 0;
+  for (const View view : {View::kFront, View::kTilted}) {
+    TestScene s = MakeScene(kW, kH, view, true, false, 0.015, 0.0);
+    for (float& h : s.heights) h *= 1.5f;
+    Obstacle pillar;
+    pillar.tank_from_obstacle[3] = glm::dvec4(0.045, 0.015, 0.0, 1.0);
+    s.inputs.obstacles.push_back(pillar);
+    internal::HeightTexturePass heights;
+    heights.Create();
+    ASSERT_TRUE(heights.Update(s.inputs));
+    const WaterOptics optics;
+    internal::FrameState f =
+        internal::MakeFrameState(s.inputs, s.k, optics, Transfer::kSrgb);
+    f.height = heights.info();
+    ASSERT_NE(f.height.tile_slope, nullptr);
+    const glm::ivec4 window = internal::MirroredObjectsRect(f);
+    const glm::ivec4 region = internal::MirrorLookupRect(f, window);
+    internal::FrameState calm = f;
+    const std::vector<float> zeros(f.height.tiles_x * f.height.tiles_y, 0.0f);
+    calm.height.tile_slope = zeros.data();
+    calm.height.decode_scale = glm::vec3(0.0f);
+    const glm::ivec4 calm_region = internal::MirrorLookupRect(calm, window);
+
+    const HeightFieldView& w = s.inputs.water;
+    auto height_at = [&](double x, double y) {
+      const double u =
+          std::clamp(x / w.cell_size + 0.5 * w.nx - 0.5, 0.0, w.nx - 1.0);
+      const double v =
+          std::clamp(y / w.cell_size + 0.5 * w.ny - 0.5, 0.0, w.ny - 1.0);
+      const int i = std::min(int(u), w.nx - 2), j = std::min(int(v), w.ny - 2);
+      const double a = u - i, b = v - j;
+      auto h = [&](int ii, int jj) { return w.heights[jj * w.nx + ii]; };
+      return (1 - b) * ((1 - a) * h(i, j) + a * h(i + 1, j)) +
+             b * ((1 - a) * h(i, j + 1) + a * h(i + 1, j + 1));
+    };
+    auto inside = [](const glm::ivec4& r, double x, double y) {
+      return x >= r.x && x < r.x + r.z && y >= r.y && y < r.y + r.w;
+    };
+    const TankGeometry& t = s.inputs.tank;
+    int lookups = 0, outside = 0;
+    for (int v = 0; v < kH; ++v) {
+      for (int u = 0; u < kW; ++u) {
+        const glm::dvec3 ray =
+            glm::dmat3(f.tank_from_cam) *
+            glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0);
+        if (ray.z >= -1e-6) continue;
+        double z = t.water_level;
+        glm::dvec3 p;
+        for (int it = 0; it < 6; ++it) {
+          p = f.cam_in_tank + ray * ((z - f.cam_in_tank.z) / ray.z);
+          z = t.water_level + height_at(p.x, p.y);
+        }
+        if (std::abs(p.x) > 0.5 * t.size_x || std::abs(p.y) > 0.5 * t.size_y)
+          continue;
+        const double e = 0.5 * w.cell_size;
+        const glm::dvec3 n = glm::normalize(glm::dvec3(
+            -(height_at(p.x + e, p.y) - height_at(p.x - e, p.y)) / (2 * e),
+            -(height_at(p.x, p.y + e) - height_at(p.x, p.y - e)) / (2 * e),
+            1.0));
+        const glm::dvec3 look =
+            p + glm::dvec3(2.0 * internal::kMirrorDepth_m * n.x,
+                           2.0 * internal::kMirrorDepth_m * n.y, 0.0);
+        const glm::dvec2 win =
+            WindowFromClip(f.clip_from_tank * glm::dvec4(look, 1.0), kW, kH);
+        if (!inside(window, win.x, win.y)) continue;
+        ++lookups;
+        if (!inside(region, u + 0.5, v + 0.5)) ++outside;
+        if (!inside(calm_region, u + 0.5, v + 0.5)) ++beyond_calm;
+      }
+    }
+    EXPECT_GT(lookups, 100) << "view " << int(view);
+    EXPECT_EQ(outside, 0) << "view " << int(view);
+  }
+  EXPECT_GT(beyond_calm, 0) << "the slopes must matter";
 }
 
 // The shadow map is redrawn only when an occluder moved by more than the

@@ -24,7 +24,7 @@ namespace ripple::render::internal {
 class WaterPass {
  public:
   struct Options {
-    int surface_grid = 16;  // quads per side of the surface mesh
+    int surface_grid = 8;  // quads per side of the surface mesh
     WaterOptics optics;
     float reflection_distance_m = 0.3f;
     // Every variant: the reflection from the environment cube map

@@ -105,12 +105,14 @@ struct EnvMapOptions {
 
 struct RendererOptions {
   // Quads per side of the water mesh. It only lays the water's depth and
-  // marks its pixels (the shading finds the surface per pixel), so it needs
-  // to follow the long waves where the surface meets the walls and objects:
-  // 16 quads sample a 42 mm wave 4 times over the 17 cm tank. llvmpipe
-  // spends ~0.5 us per triangle per pass (set-up and binning, then per
-  // block), so more costs: 32 quads cost 5% more of the main pass.
-  int surface_grid = 16;
+  // marks its pixels (the shading finds the surface per pixel), so only the
+  // water's silhouette against the walls and the waterline on objects
+  // follow it: 8 quads sample the tank's sloshing waves (85 mm and longer)
+  // 4 times a wavelength over 17 cm, and the pen's shorter waves (under a
+  // millimetre high) move those lines by less than a pixel at 32 quads or
+  // 8 alike. llvmpipe spends ~1,900 instructions a triangle (set-up,
+  // binning, blocks): 16 quads cost 4% more of the main pass, 32 quads 9%.
+  int surface_grid = 8;
   int shadow_map_size = 512;  // texels per side
   ShadowFilter shadow_filter = ShadowFilter::kPcf;
   // kGauss: the Gaussian's standard deviation, shadow map texels, in

@@ -63,16 +63,24 @@ void HeightTexturePass::UpdateSlopeTiles(int nx, int ny, float cell_m) {
   const int tx = (nx + kTileCells - 1) / kTileCells;
   const int ty = (ny + kTileCells - 1) / kTileCells;
   tile_max_.assign(static_cast<size_t>(tx) * ty, 0.0f);
-  for (int j = 0; j < ny; ++j) {
-    const float* ox = px + static_cast<size_t>(j) * nx;
-    const float* oy = py + static_cast<size_t>(j) * nx;
-    float* row = tile_max_.data() + static_cast<size_t>(j / kTileCells) * tx;
+  // Column maxima over a tile's rows (contiguous, so the compiler
+  // vectorises it), then each tile's maximum over its columns.
+  col_max_.resize(nx);
+  for (int tj = 0; tj < ty; ++tj) {
+    std::fill(col_max_.begin(), col_max_.end(), 0.0f);
+    float* c = col_max_.data();
+    for (int j = tj * kTileCells; j < std::min(ny, (tj + 1) * kTileCells);
+         ++j) {
+      const float* ox = px + static_cast<size_t>(j) * nx;
+      const float* oy = py + static_cast<size_t>(j) * nx;
+      for (int i = 0; i < nx; ++i)
+        c[i] = std::max(c[i], ox[i] * ox[i] + oy[i] * oy[i]);
+    }
     for (int t = 0; t < tx; ++t) {
-      const int i1 = std::min(nx, (t + 1) * kTileCells);
-      float m = row[t];
-      for (int i = t * kTileCells; i < i1; ++i)
-        m = std::max(m, ox[i] * ox[i] + oy[i] * oy[i]);
-      row[t] = m;
+      float m = 0.0f;
+      for (int i = t * kTileCells; i < std::min(nx, (t + 1) * kTileCells); ++i)
+        m = std::max(m, c[i]);
+      tile_max_[static_cast<size_t>(tj) * tx + t] = m;
     }
   }
   // Each tile takes its neighbours' steepest slope too: a lookup near the

@@ -41,6 +41,7 @@ class HeightTexturePass {
   void UpdateSlopeTiles(int nx, int ny, float cell_m);
 
   std::vector<float> planes_;    // h, then dh/dx, then dh/dy planes
+  std::vector<float> col_max_;   // scratch: one tile row's column maxima
   std::vector<float> tile_max_;  // per tile, then dilated: tile_slope_
   std::vector<float> tile_slope_;
   int tiles_x_ = 0, tiles_y_ = 0;

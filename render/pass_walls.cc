@@ -67,13 +67,13 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   const float split = std::clamp(
       t.water_level + h.decode_offset.x + h.decode_scale.x + kSurfaceSlack_m,
       0.0f, t.wall_height);
+  // Far walls are drawn from the same height: nothing under the surface's
+  // lowest point shows. A ray from the camera (above the water) to such a
+  // point crosses the surface mesh inside the tank, whose depth hides it,
+  // or enters through a front wall under the water, whose program replaces
+  // the pixel.
   const float deep = std::clamp(
       t.water_level + h.decode_offset.x - kSurfaceSlack_m, 0.0f, split);
-  // Far walls: nothing under the lowest point of the surface shows. A ray
-  // from the camera (above the water) to such a point crosses the surface
-  // mesh inside the tank, whose depth hides it, or enters through a front
-  // wall under the water, whose program replaces the pixel.
-  const float far_bottom = deep;
   const Effects& fx = f.scene->effects;
   const int front_program = 1 + (fx.shadows ? 1 : 0) + (fx.caustics ? 2 : 0);
   // (program, z range, which walls), farthest first (the blend is not
@@ -85,7 +85,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     float z0, z1;
     bool front;
   };
-  const Part parts[4] = {{0, far_bottom, t.wall_height, false},
+  const Part parts[4] = {{0, deep, t.wall_height, false},
                          {0, split, t.wall_height, true},
                          {front_program, deep, split, true},
                          {front_program + 4, 0.0f, deep, true}};

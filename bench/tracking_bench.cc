@@ -57,6 +57,8 @@ std::string SettingName(const tracking::TrackerOptions& o) {
   // What a suspects sweep changes beyond the factors above.
   const tracking::TrackerOptions d;
   if (!o.detector.edge_fit) name += " no-edge-fit";
+  if (o.detector.edge_fit && !o.detector.edge_fit_border_black)
+    name += " local-dark";
   if (o.detector.edge_outward_px != d.detector.edge_outward_px) {
     std::snprintf(buf, sizeof(buf), " outward %g px",
                   o.detector.edge_outward_px);
@@ -130,6 +132,8 @@ bool IsDefault(const tracking::TrackerOptions& o) {
          o.pen_shaft.enabled == defaults.pen_shaft.enabled &&
          o.face_selection == defaults.face_selection &&
          o.detector.edge_fit == defaults.detector.edge_fit &&
+         o.detector.edge_fit_border_black ==
+             defaults.detector.edge_fit_border_black &&
          o.detector.edge_outward_px == defaults.detector.edge_outward_px &&
          o.detector.pixel_offset_px == defaults.detector.pixel_offset_px &&
          o.pose.loss == defaults.pose.loss &&
@@ -269,11 +273,14 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     o.detector.edge_fit = false;
     list.push_back(o);
     o = defaults;
-    o.detector.edge_outward_px = 0;
+    o.detector.edge_outward_px = -0.015;
     list.push_back(o);
+    // The edge fit's former dark level (each profile's own) with and
+    // without the outward correction that offset its bias.
     o = defaults;
-    o.detector.edge_fit = false;
-    o.detector.edge_outward_px = 0;
+    o.detector.edge_fit_border_black = false;
+    list.push_back(o);
+    o.detector.edge_outward_px = -0.015;
     list.push_back(o);
     for (double scale : {0.3, 3.0}) {
       o = defaults;
@@ -422,6 +429,7 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
     def.quad_decimate = d;
     def.threads = o.threads;
     if (!detectors.count(d) && o.edge_fit == def.edge_fit &&
+        o.edge_fit_border_black == def.edge_fit_border_black &&
         o.edge_outward_px == def.edge_outward_px &&
         o.pixel_offset_px == def.pixel_offset_px)
       detectors[d] = std::make_unique<tracking::TagDetector>(o);
@@ -519,6 +527,8 @@ bool RunTrackingBench(const TrackingBenchOptions& options,
         const double d = s->options.detector.quad_decimate;
         if (s->options.roi.enabled || !detectors.count(d) ||
             detectors[d]->options().edge_fit != s->options.detector.edge_fit ||
+            detectors[d]->options().edge_fit_border_black !=
+                s->options.detector.edge_fit_border_black ||
             detectors[d]->options().edge_outward_px !=
                 s->options.detector.edge_outward_px ||
             detectors[d]->options().pixel_offset_px !=

@@ -50,7 +50,6 @@ class RealObjectsPass {
 
  private:
   Program depth_;
-  GLint u_mask_ = -1;
   VertexArray empty_vao_;
   Texture mask_tex_, plate_tex_;
   int width_ = 0, height_ = 0;

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "geometry/camera_model.h"
+#include "tracking/tag_family.h"
 
 namespace ripple::tracking {
 
@@ -57,16 +58,22 @@ struct TagDetectorOptions {
   double min_decision_margin = 15.0;  // reject weaker decodes
   // Bias correction (see the file comment). Pixels.
   double pixel_offset_px = 0.5;
-  // Measured on synth frames after the edge fit (docs/tracking.md): about
-  // +0.01 px outward on sharp frames and +0.01..+0.06 px under the benchmark
-  // preset's blur (the 1-cell black border is lightened by the white data
-  // cells inside it); -0.015 splits the difference.
-  double edge_outward_px = -0.015;
+  // With the edge fit and the border's own black (below), the remaining
+  // outward bias is within +-0.02 px on every synthetic variant, sharp or
+  // blurred, linear or sRGB (docs/tracking.md, "Detection and corner
+  // bias"): no correction. The former per-profile dark level sat
+  // +0.03..+0.08 px outward under blur and took -0.015 px here.
+  double edge_outward_px = 0.0;
   // Ripple's own edge fit after libapriltag's: along each edge, the
   // sub-pixel crossing of the mid level between the black border and the
   // white margin (unbiased under any symmetric blur), a robust line fit per
   // edge, and corners at the intersections of adjacent lines.
   bool edge_fit = true;
+  // The edge fit's dark level: the black border's own, read where the
+  // decoded tag has a black cell inside the border and taken as a share of
+  // the white beside each profile (FitTagEdges); off: each profile's dark
+  // end, which a white cell inside the one-cell border lifts under blur.
+  bool edge_fit_border_black = true;
   // A fitted corner further than this from libapriltag's is not trusted.
   double edge_fit_max_shift_px = 1.5;
   // How the image's 8-bit values encode light (the camera file's
@@ -115,10 +122,14 @@ class TagDetector {
 // OpenCV convention) in an 8-bit grey image and returns their
 // intersections; `cell_px` is the size of one tag cell in pixels (it bounds
 // the profile so that it stays on the black border and the white margin).
+// Each edge point is the crossing of the mid level between the black border
+// and the white margin; with the tag's `bitmap` (its cells as decoded, TL
+// corner first) the border's black is read only where the cell inside the
+// border is black (TagDetectorOptions::edge_fit_border_black).
 // Corners whose edges cannot be fitted keep their input value.
 std::array<Eigen::Vector2d, 4> FitTagEdges(
     const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
-    double cell_px, double max_shift_px);
+    double cell_px, double max_shift_px, const TagBitmap* bitmap = nullptr);
 
 // A cv::LUT table (1 x 256, CV_8U) from 8-bit values of `transfer` to 8-bit
 // values linear in light (identity for kLinear).

@@ -194,7 +194,12 @@ std::vector<std::vector<tracking::TagDetection>> ViewsOf(
   std::vector<std::vector<tracking::TagDetection>> views;
   for (const auto& ids : ids_per_view) {
     views.emplace_back();
-    for (int id : ids) views.back().push_back({id, {}, 0, 0});
+    for (int id : ids) {
+      tracking::TagDetection d;
+      d.id = id;
+      for (auto& c : d.corners) c.setZero();
+      views.back().push_back(d);
+    }
   }
   return views;
 }

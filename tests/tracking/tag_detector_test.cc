@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <opencv2/imgproc.hpp>
+#include <optional>
 #include <random>
 
 #include "tests/tracking/tag_scene.h"
@@ -112,9 +114,12 @@ struct BiasStats {
   int n = 0;
 };
 
-// Corner errors over randomly posed tags rendered exactly.
+// Corner errors over randomly posed tags rendered exactly (edge_m metres
+// wide at 0.25-0.45 m) over a grey background (110) or white paper (255),
+// blurred by a Gaussian of blur_px when above 0.
 BiasStats MeasureBias(const TagDetectorOptions& options, int num_images,
-                      uint32_t seed) {
+                      uint32_t seed, double edge_m = 0.035, double blur_px = 0,
+                      double background = 110) {
   const Camera camera = TestCamera();
   auto family = TagFamily::Create("tag36h11");
   std::mt19937 rng(seed);
@@ -127,11 +132,12 @@ BiasStats MeasureBias(const TagDetectorOptions& options, int num_images,
     for (int j = 0; j < 4; ++j) {
       const double x = (j % 2 ? 0.065 : -0.065) + 0.01 * u(rng);
       const double y = (j / 2 ? 0.045 : -0.045) + 0.01 * u(rng);
-      tags.push_back({j + 4 * (i % 5), 0.035,
+      tags.push_back({j + 4 * (i % 5), edge_m,
                       TagPose(x, y, 0.35 + 0.1 * u(rng), 0.6 * u(rng),
                               0.6 * u(rng), M_PI * u(rng))});
     }
-    const cv::Mat image = RenderTags(camera, *family, tags);
+    cv::Mat image = RenderTags(camera, *family, tags, 6, background);
+    if (blur_px > 0) cv::GaussianBlur(image, image, cv::Size(), blur_px);
     for (const TagDetection& d : detector.Detect(image)) {
       const PlacedTag* tag = nullptr;
       for (const PlacedTag& t : tags)
@@ -182,6 +188,62 @@ TEST(TagDetectorTest, CorrectedCornersHaveNoMeasurableBias) {
     EXPECT_LE(std::abs(s.mean_outward), 0.05);
     EXPECT_LT(s.rms, 0.25);
   }
+}
+
+// Small tags printed on white paper, under blur: the one-cell black border
+// is lightened by the white cells inside it, so a profile's own dark end
+// overstates the border's black and its edges move outward; the border's
+// black read where a black cell backs it leaves no measurable bias.
+TEST(TagDetectorTest, BlurredSmallTagsKeepTheirSizeWithTheBordersOwnBlack) {
+  for (double blur : {0.8, 1.2}) {
+    TagDetectorOptions options;
+    options.quad_decimate = 1;
+    // 20 mm tags at 0.25-0.45 m: 25-45 px, cells of 3-5.5 px.
+    const BiasStats fit = MeasureBias(options, 10, 13, 0.02, blur, 255);
+    options.edge_fit_border_black = false;
+    const BiasStats local = MeasureBias(options, 10, 13, 0.02, blur, 255);
+    std::printf(
+        "blur %.1f px: outward %.3f px, rms %.3f px (local dark: %.3f px, "
+        "rms %.3f px), n %d\n",
+        blur, fit.mean_outward, fit.rms, local.mean_outward, local.rms, fit.n);
+    EXPECT_GT(fit.n, 100);
+    // What remains at the heavier blur (sigma 0.4 cell on the smallest
+    // tags): the white cells diagonal to a black-backed border cell still
+    // lift its black a little.
+    EXPECT_LE(std::abs(fit.mean_outward), blur < 1 ? 0.025 : 0.08) << blur;
+    EXPECT_LT(std::abs(fit.mean_outward), 0.5 * local.mean_outward) << blur;
+    EXPECT_LT(fit.rms, 0.6 * local.rms) << blur;
+  }
+}
+
+TEST(TagDetectorTest, BorderBlackNeedsTheTagsCells) {
+  // No bitmap: each profile's own dark end, as before; an all-white bitmap
+  // (no black cell inside the border) the same.
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  const std::vector<PlacedTag> tags = {
+      {5, 0.02, TagPose(0.0, 0.0, 0.4, 0.2, -0.1, 0.3)}};
+  cv::Mat image = RenderTags(camera, *family, tags);
+  cv::GaussianBlur(image, image, cv::Size(), 1.0);
+  const auto truth = TrueCorners(camera, tags[0]);
+  const double cell =
+      0.25 *
+      ((truth[1] - truth[0]).norm() + (truth[2] - truth[1]).norm() +
+       (truth[3] - truth[2]).norm() + (truth[0] - truth[3]).norm()) /
+      family->width_at_border();
+  const auto plain = FitTagEdges(image, truth, cell, 1.5);
+  std::optional<TagBitmap> white = MakeTagBitmap(*family, 5);
+  ASSERT_TRUE(white);
+  for (auto& c : white->cells) c = 255;
+  const auto same = FitTagEdges(image, truth, cell, 1.5, &*white);
+  const std::optional<TagBitmap> bitmap = MakeTagBitmap(*family, 5);
+  const auto fitted = FitTagEdges(image, truth, cell, 1.5, &*bitmap);
+  double moved = 0;
+  for (int k = 0; k < 4; ++k) {
+    EXPECT_EQ(same[k], plain[k]);
+    moved += (fitted[k] - plain[k]).norm();
+  }
+  EXPECT_GT(moved, 0.01);
 }
 
 }  // namespace

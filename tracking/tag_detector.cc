@@ -324,12 +324,19 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
     normals[k] = n;
     profiles[k] = SampleEdge(gray, a, b, n, half_width);
   }
-  // On cells under ~3 px the reading point lies within ~1.5 px of the edge
-  // and of the next cell, which a webcam's defocus mixes as well: there the
-  // reading is no surer than a profile's own dark end and (shared by all
-  // four edges) its noise becomes a distance jitter of a tiny face. The
-  // correction fades in from 2.4 to 3 px cells (tags of 19 to 24 px).
-  const double weight = std::clamp((cell_px - 2.4) / 0.6, 0.0, 1.0);
+  // Where the correction applies, by the cell's size in pixels. On cells
+  // under ~3 px the reading point lies within ~1.5 px of the edge and of
+  // the next cell, which a webcam's defocus mixes as well: there the reading
+  // is no surer than a profile's own dark end and (shared by all four
+  // edges) its noise becomes a distance jitter of a tiny face. On cells over
+  // ~6 px the profile's dark end lies 3 px inside the edge and more than
+  // 3 px from the next cell, where the lift is under 0.1% at the benchmark's
+  // defocus, and what differs between the two readings is the real camera's
+  // own processing (on the ViSP photo the correction moved the poses away
+  // from ViSP's). It fades in from 2.4 to 3 px cells and out from 5 to 7 px
+  // (tags of 19-24 and 40-56 px).
+  const double weight = std::clamp((cell_px - 2.4) / 0.6, 0.0, 1.0) *
+                        std::clamp((7.0 - cell_px) / 2.0, 0.0, 1.0);
   // Each profile's edge point: the crossing of the mid level between its
   // white end and `black_ratio` times it, or its own dark end when
   // black_ratio < 0.

@@ -59,10 +59,10 @@ struct TagDetectorOptions {
   // Bias correction (see the file comment). Pixels.
   double pixel_offset_px = 0.5;
   // With the edge fit and the border's own black (below), the remaining
-  // outward bias is within +-0.02 px on every synthetic variant, sharp or
+  // outward bias is +0.00..+0.05 px on the synthetic variants, sharp or
   // blurred, linear or sRGB (docs/tracking.md, "Detection and corner
   // bias"): no correction. The former per-profile dark level sat
-  // +0.03..+0.08 px outward under blur and took -0.015 px here.
+  // +0.03..+0.10 px outward under blur and took -0.015 px here.
   double edge_outward_px = 0.0;
   // Ripple's own edge fit after libapriltag's: along each edge, the
   // sub-pixel crossing of the mid level between the black border and the
@@ -71,8 +71,10 @@ struct TagDetectorOptions {
   bool edge_fit = true;
   // The edge fit's dark level: the black border's own, read where the
   // decoded tag has a black cell inside the border and taken as a share of
-  // the white beside each profile (FitTagEdges); off: each profile's dark
-  // end, which a white cell inside the one-cell border lifts under blur.
+  // the white beside each profile (FitTagEdges), on tags whose cells are
+  // 2.4-7 px (where a white cell inside the one-cell border lifts the
+  // border's level under blur); off, or outside that range: each
+  // profile's dark end.
   bool edge_fit_border_black = true;
   // A fitted corner further than this from libapriltag's is not trusted.
   double edge_fit_max_shift_px = 1.5;

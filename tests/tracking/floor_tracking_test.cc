@@ -164,11 +164,11 @@ TEST(FloorTrackingTest, BenchmarkFramesGiveTheSameErrors) {
   EXPECT_NEAR(c.tiles.pen_tracked, c.plain.pen_tracked, 1);
   // Medians over 60 frames of errors that differ per frame at the noise
   // level: within 10% (tank) and 15% (pen) of their own size, the tank's
-  // rotation within 0.0015 deg at least (its median's own spread over 60
-  // frames at ~0.008 deg).
+  // rotation within 0.003 deg at least (about twice the spread of a median
+  // over 60 frames of errors near 0.008 deg).
   const double tank_rot = Median(c.plain.tank_rot_deg);
   EXPECT_NEAR(Median(c.tiles.tank_rot_deg), tank_rot,
-              std::max(0.1 * tank_rot, 0.0015));
+              std::max(0.1 * tank_rot, 0.003));
   const double tank_mm = Median(c.plain.tank_mm);
   EXPECT_NEAR(Median(c.tiles.tank_mm), tank_mm, 0.1 * tank_mm);
   const double tip_mm = Median(c.plain.tip_mm);

@@ -81,7 +81,10 @@ void BM_DetectFullFrame(benchmark::State& state) {
   const Frames& f = BenchmarkFrames(state.range(1) != 0);
   TagDetectorOptions options;
   options.family = f.rig.family;
+  // edge_fit: 0 none, 1 each profile's own dark end, 2 the border's own
+  // black (the default).
   options.edge_fit = state.range(0) != 0;
+  options.edge_fit_border_black = state.range(0) == 2;
   TagDetector detector(options);
   size_t i = 0, tags = 0;
   for (auto _ : state) {
@@ -94,7 +97,8 @@ BENCHMARK(BM_DetectFullFrame)
     ->ArgNames({"edge_fit", "floor"})
     ->Args({0, 0})
     ->Args({1, 0})
-    ->Args({1, 1})
+    ->Args({2, 0})
+    ->Args({2, 1})
     ->Unit(benchmark::kMillisecond);
 
 // libapriltag alone on the whole frame, decimate 2, refine_edges on, with

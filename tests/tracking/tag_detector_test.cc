@@ -193,7 +193,7 @@ TEST(TagDetectorTest, CorrectedCornersHaveNoMeasurableBias) {
 // Small tags printed on white paper, under blur: the one-cell black border
 // is lightened by the white cells inside it, so a profile's own dark end
 // overstates the border's black and its edges move outward; the border's
-// black read where a black cell backs it leaves no measurable bias.
+// black read where a black cell backs it takes most of that bias away.
 TEST(TagDetectorTest, BlurredSmallTagsKeepTheirSizeWithTheBordersOwnBlack) {
   for (double blur : {0.8, 1.2}) {
     TagDetectorOptions options;
@@ -216,9 +216,10 @@ TEST(TagDetectorTest, BlurredSmallTagsKeepTheirSizeWithTheBordersOwnBlack) {
   }
 }
 
-TEST(TagDetectorTest, BorderBlackNeedsTheTagsCells) {
+TEST(TagDetectorTest, BorderBlackNeedsTheTagsCellsAndSmallCells) {
   // No bitmap: each profile's own dark end, as before; an all-white bitmap
-  // (no black cell inside the border) the same.
+  // (no black cell inside the border) the same; a tag whose cells are over
+  // 7 px the same (the correction fades out from 5 to 7 px).
   const Camera camera = TestCamera();
   auto family = TagFamily::Create("tag36h11");
   const std::vector<PlacedTag> tags = {
@@ -244,6 +245,19 @@ TEST(TagDetectorTest, BorderBlackNeedsTheTagsCells) {
     moved += (fitted[k] - plain[k]).norm();
   }
   EXPECT_GT(moved, 0.01);
+
+  const std::vector<PlacedTag> large = {
+      {5, 0.04, TagPose(0.0, 0.0, 0.25, 0.2, -0.1, 0.3)}};  // ~11 px cells
+  cv::Mat near = RenderTags(camera, *family, large);
+  cv::GaussianBlur(near, near, cv::Size(), 1.0);
+  const auto large_truth = TrueCorners(camera, large[0]);
+  const double large_cell =
+      (large_truth[1] - large_truth[0]).norm() / family->width_at_border();
+  ASSERT_GT(large_cell, 7.5);
+  const auto large_plain = FitTagEdges(near, large_truth, large_cell, 1.5);
+  const auto large_fitted =
+      FitTagEdges(near, large_truth, large_cell, 1.5, &*bitmap);
+  for (int k = 0; k < 4; ++k) EXPECT_EQ(large_fitted[k], large_plain[k]);
 }
 
 }  // namespace

@@ -30,7 +30,7 @@ class CausticsPass {
  public:
   struct Options {
     int map_size = 256;  // texels per side, over the tank floor
-    int threads = 2;     // CPU threads of ComputeCaustics
+    int threads = 1;     // CPU threads of ComputeCaustics
     // Mean absorption of the water (1/m): light loses it on its way down
     // (Nishita's attenuation along the refracted path).
     double attenuation_per_m = 0.0;

@@ -124,7 +124,13 @@ struct RendererOptions {
   // frame (about 0.4 mm per texel).
   float shadow_gauss_sigma_texels = 1.5f;
   int caustics_map_size = 256;  // texels per side, over the tank floor
-  int caustics_threads = 2;     // CPU threads for the caustics map
+  // CPU threads for the caustics map. One: the map is about a millisecond
+  // of work, the frame loop's second core is tracking the next frame
+  // meanwhile, and each of the kernel's four parallel phases starts its
+  // threads anew, so under any background load a started thread waits for
+  // a core (the demo's caustics stage with two nice-19 processes running:
+  // 7.2 ms with two threads, 1.2 ms with one; docs/render.md, "Caustics").
+  int caustics_threads = 1;
   // The shadow map is redrawn only when an occluder moved relative to the
   // tank by more than these since the last redraw, or the light changed.
   double shadow_move_threshold_m = 0.001;

@@ -86,6 +86,10 @@ namespace {
 
 struct Line {
   Eigen::Vector2d point, dir;  // dir is unit
+  // The foot of the perpendicular from x.
+  Eigen::Vector2d Project(const Eigen::Vector2d& x) const {
+    return point + dir.dot(x - point) * dir;
+  }
 };
 
 constexpr int kSteps = 12;  // a profile's intervals across the edge
@@ -259,9 +263,7 @@ std::optional<double> BorderBlackRatio(
       bool good = true;
       for (double f : {0.3, 0.5, 0.7}) {
         const Eigen::Vector2d guess = a + (c + f) / w * (b - a);
-        const Eigen::Vector2d q =
-            lines[k].point +
-            lines[k].dir.dot(guess - lines[k].point) * lines[k].dir;
+        const Eigen::Vector2d q = lines[k].Project(guess);
         double dark = 0, bright = 0;
         good = good &&
                SamplePair(gray, q, n, -half_width, -half_width + step, &dark) &&
@@ -385,9 +387,7 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
       std::vector<EdgeProfile> moved;
       for (const EdgeProfile& f : profiles[k]) {
         EdgeProfile m;
-        const Eigen::Vector2d on_line =
-            lines[k].point +
-            lines[k].dir.dot(f.centre - lines[k].point) * lines[k].dir;
+        const Eigen::Vector2d on_line = lines[k].Project(f.centre);
         if (SampleProfile(gray, on_line, normals[k], half_width, &m))
           moved.push_back(m);
       }

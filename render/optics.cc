@@ -233,6 +233,12 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
   map.ny = ny;
   map.returned.assign(static_cast<size_t>(nx) * ny, glm::vec3(0.0f));
   map.surround.assign(map.returned.size(), glm::vec3(0.0f));
+  map.sky.assign(map.returned.size(), glm::vec3(0.0f));
+  for (std::vector<glm::vec3>& b : map.board)
+    b.assign(map.returned.size(), glm::vec3(0.0f));
+  // Every down-going exit's landing point and weight (green), per wall,
+  // for the board points.
+  std::vector<std::pair<glm::dvec2, double>> landings[4];
   const double n = o.ior, ng = o.glass_ior;
   const double hx = 0.5 * size_x, hy = 0.5 * size_y;
   const glm::dvec3 sigma(o.absorption_per_m);
@@ -254,10 +260,18 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
     for (int i = 0; i < nx; ++i) {
       const glm::dvec3 start(-hx + (i + 0.5) * size_x / nx,
                              -hy + (j + 0.5) * size_y / ny, 0.0);
-      glm::dvec3 sum(0.0), outside(0.0);
+      glm::dvec3 sum(0.0), outside(0.0), board[4] = {};
+      const double sky = o.ambient_share;
       for (const glm::dvec3& d0 : dirs) {
         glm::dvec3 p = start, d = d0;
         double weight = 1.0, length = 0.0;
+        // The shader's sky term (WaterShading::floor_sky) takes every
+        // upward direction to the surface at once; the sky's light along
+        // this one is counted below wherever the ray actually leaves (the
+        // surface, directly or after the walls' reflections, or a wall), so
+        // the uniform term's share of it comes off here.
+        outside -= (1.0 - FresnelReflectance(d0.z, n, 1.0)) * n * n * sky *
+                   glm::exp(-sigma * (depth / d0.z));
         for (int event = 0; event < 64 && weight > 1e-4; ++event) {
           const double tz =
               d.z > 0 ? (depth - p.z) / d.z : (d.z < 0 ? -p.z / d.z : 1e30);
@@ -273,16 +287,40 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
             break;
           }
           if (t == tz) {
-            weight *= FresnelReflectance(d.z, n, 1.0);
+            const double r = FresnelReflectance(d.z, n, 1.0);
+            outside +=
+                weight * (1.0 - r) * n * n * sky * glm::exp(-sigma * length);
+            weight *= r;
             d.z = -d.z;
           } else {
             const bool x_wall = t == tx;
             const double r =
                 SideWallReflectance(std::abs(x_wall ? d.x : d.y), n, ng);
             // Out through the glass: the board around the tank below, the
-            // sky above.
-            outside += weight * (1.0 - r) * glm::exp(-sigma * length) *
-                       (d.z < 0 ? surround_radiance : double(o.ambient_share));
+            // sky above. Radiance over n^2 is what an interface keeps, so
+            // the outside's radiance L arrives in the water as n^2 T L
+            // (its rays' solid angle narrows by n^2 on the way in).
+            const glm::dvec3 share =
+                weight * (1.0 - r) * n * n * glm::exp(-sigma * length);
+            if (d.z < 0 && r < 1.0) {
+              // Walls +x, -x, +y, -y. In the air the ray's components
+              // along the wall grow by n (a thin slab refracts as water to
+              // air); it lands on the board at z = 0.
+              const int w = x_wall ? (d.x > 0 ? 0 : 1) : (d.y > 0 ? 2 : 3);
+              board[w] += share;
+              glm::dvec3 out = d * n;
+              const double along = x_wall ? out.y * out.y + out.z * out.z
+                                          : out.x * out.x + out.z * out.z;
+              const double normal = std::sqrt(std::max(0.0, 1.0 - along));
+              (x_wall ? out.x : out.y) =
+                  (x_wall ? d.x : d.y) > 0 ? normal : -normal;
+              const double s_land = p.z / -out.z;
+              landings[w].emplace_back(
+                  glm::dvec2(p.x + s_land * out.x, p.y + s_land * out.y),
+                  share.g);
+            } else if (d.z >= 0) {
+              outside += share * sky;
+            }
             weight *= r;
             if (x_wall) {
               d.x = -d.x;
@@ -294,7 +332,31 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
       }
       const size_t at = static_cast<size_t>(j) * nx + i;
       map.returned[at] = glm::vec3(sum / double(rays));
-      map.surround[at] = glm::vec3(outside / double(rays));
+      map.sky[at] = glm::vec3(outside / double(rays));
+      glm::dvec3 all_board(0.0);
+      for (int w = 0; w < 4; ++w) {
+        map.board[w][at] = glm::vec3(board[w] / double(rays));
+        all_board += board[w];
+      }
+      map.surround[at] =
+          glm::vec3((outside + surround_radiance * all_board) / double(rays));
+    }
+  }
+  // Systematic sampling by weight: each point stands for an equal share of
+  // the wall's landing light.
+  for (int w = 0; w < 4; ++w) {
+    double total = 0;
+    for (const auto& l : landings[w]) total += l.second;
+    if (!(total > 0)) continue;
+    const double step = total / FloorReturnMap::kBoardPoints;
+    double next = 0.5 * step, acc = 0;
+    for (const auto& l : landings[w]) {
+      acc += l.second;
+      while (acc > next && static_cast<int>(map.board_points[w].size()) <
+                               FloorReturnMap::kBoardPoints) {
+        map.board_points[w].push_back(l.first);
+        next += step;
+      }
     }
   }
   return map;

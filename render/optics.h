@@ -162,14 +162,37 @@ WaterShading ComputeWaterShading(const WaterOptics& optics, double depth_m,
 // small tank part of the light leaves through the glass. By reciprocity the
 // same directions bring the surroundings' light in: what leaves through a
 // wall going down lands on the board around the tank (radiance
-// `surround_radiance`), going up it sees the sky (radiance a). A fixed,
+// `surround_radiance`), going up it sees the sky (radiance a), and that
+// radiance L comes in as n^2 T L (T the glass's transmittance). The sky
+// seen through the surface is the shading's uniform term (floor_sky), which
+// takes every upward direction to the surface at once; near the walls some
+// of them meet a wall first, so the map counts the sky wherever each ray
+// actually leaves (the surface, directly or after the walls' reflections,
+// or a wall) and takes the uniform term's share off: `surround` is what the
+// uniform term misses (negative where the walls show less than the sky they
+// hide). In a world of uniform radiance over a white floor without
+// absorption the floor's light is then n^2 times it at every texel
+// (Clausius' law). A fixed,
 // stratified set of `rays` directions per texel (deterministic).
 struct FloorReturnMap {
   int nx = 0, ny = 0;  // texels over the tank floor, row j along y
   // nx * ny, RGB: the share of the floor's light returned to it, and the
-  // irradiance the walls let in from the surroundings (relative to the dry
-  // board's, pi).
+  // irradiance from the surroundings that the sky term leaves out (relative
+  // to the dry board's, pi; see above).
   std::vector<glm::vec3> returned, surround;
+  // The surroundings by where their light comes from, for a board whose
+  // radiance is read each frame: `sky` the sky's part of `surround` and,
+  // per side wall (+x, -x, +y, -y), `board[w]` the irradiance a board of
+  // radiance 1 beyond it gives, so that
+  //   surround = sky + surround_radiance * (board[0] + ... + board[3]).
+  std::vector<glm::vec3> sky;
+  std::vector<glm::vec3> board[4];
+  // Per wall, kBoardPoints points (tank frame x, y on the board, z = 0)
+  // where the light leaving through it going down lands, each standing for
+  // an equal share of it over the whole floor: the board's mean radiance
+  // over them is the radiance to weigh board[w] with.
+  static constexpr int kBoardPoints = 64;
+  std::vector<glm::dvec2> board_points[4];
 };
 FloorReturnMap ComputeFloorReturn(const WaterOptics& optics, double size_x_m,
                                   double size_y_m, double depth_m, int nx,

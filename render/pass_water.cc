@@ -1,9 +1,11 @@
 #include "render/pass_water.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "render/camera.h"
 #include "render/gl_state.h"
 #include "render/shaders.h"
 #include "render/water_regions.h"
@@ -47,30 +49,97 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   return true;
 }
 
-void WaterPass::UpdateFloorReturn(const TankGeometry& tank) {
-  if (floor_return_tank_ && floor_return_tank_->size_x == tank.size_x &&
-      floor_return_tank_->size_y == tank.size_y &&
-      floor_return_tank_->water_level == tank.water_level) {
-    return;
+void WaterPass::UpdateFloorReturn(const FrameState& f) {
+  const TankGeometry& tank = f.scene->tank;
+  const bool new_tank = !floor_return_tank_ ||
+                        floor_return_tank_->size_x != tank.size_x ||
+                        floor_return_tank_->size_y != tank.size_y ||
+                        floor_return_tank_->water_level != tank.water_level;
+  if (new_tank) {
+    floor_return_ =
+        ComputeFloorReturn(options_.optics, tank.size_x, tank.size_y,
+                           tank.water_level, kReturnNx, kReturnNy, kReturnRays);
+    // The other bands' return is green's times the map's mean ratio (their
+    // extra absorption on the way, nearly uniform over the floor).
+    glm::dvec3 mean(0.0);
+    for (const glm::vec3& r : floor_return_.returned) mean += glm::dvec3(r);
+    return_tint_ = glm::vec3(mean / std::max(mean.g, 1e-12));
+    floor_return_tank_ = tank;
   }
-  const FloorReturnMap map =
-      ComputeFloorReturn(options_.optics, tank.size_x, tank.size_y,
-                         tank.water_level, kReturnNx, kReturnNy, kReturnRays);
-  // One fetch: rgb = the surroundings' light, a = the green band's return;
-  // the other bands' return is green's times the map's mean ratio (their
-  // extra absorption on the way, nearly uniform over the floor).
+  // The board's radiance beyond each wall, as the video shows it where the
+  // light leaving through that wall lands (the board is real: the video
+  // shows it around the virtual tank).
+  const VideoFrame& v = f.scene->video;
+  // No frame this time: the last one's board stands.
+  if (v.bgr == nullptr && uploaded_ && !new_tank) return;
+  glm::vec3 radiance[4];
+  int seen = 0;
+  glm::vec3 seen_sum(0.0f);
+  bool have[4] = {false, false, false, false};
+  const Intrinsics& k = *f.k;
+  for (int w = 0; w < 4; ++w) {
+    glm::dvec3 sum(0.0);
+    int count = 0;
+    for (const glm::dvec2& q : floor_return_.board_points[w]) {
+      if (v.bgr == nullptr || v.width <= 0 || v.height <= 0) break;
+      const glm::dvec3 c =
+          glm::dvec3(f.scene->cam_from_tank * glm::dvec4(q, 0.0, 1.0));
+      if (!(c.z > 1e-3)) continue;
+      const glm::dvec2 px = DistortedPixel(k, c.x / c.z, c.y / c.z);
+      const int u =
+          static_cast<int>(std::floor((px.x + 0.5) * v.width / k.width));
+      const int r =
+          static_cast<int>(std::floor((px.y + 0.5) * v.height / k.height));
+      if (u < 0 || r < 0 || u >= v.width || r >= v.height) continue;
+      const int stride = v.stride_bytes > 0 ? v.stride_bytes : 3 * v.width;
+      const std::uint8_t* bgr = v.bgr + static_cast<size_t>(r) * stride + 3 * u;
+      for (int ch = 0; ch < 3; ++ch) {
+        const double e = bgr[2 - ch] / 255.0;
+        sum[ch] += f.srgb_output ? SrgbToLinear(e) : e;
+      }
+      ++count;
+    }
+    if (count > 0) {
+      radiance[w] = glm::vec3(sum / double(count));
+      have[w] = true;
+      seen_sum += radiance[w];
+      ++seen;
+    }
+  }
+  // A wall whose board the frame does not show takes the others' mean; no
+  // board in view (or no video) leaves white paper's.
+  for (int w = 0; w < 4; ++w) {
+    if (!have[w])
+      radiance[w] =
+          seen > 0 ? seen_sum / float(seen) : glm::vec3(kPaperRadiance);
+  }
+  bool changed = new_tank || !uploaded_;
+  for (int w = 0; w < 4; ++w) {
+    const glm::vec3 d = glm::abs(radiance[w] - board_radiance_[w]);
+    changed = changed || std::max(d.r, std::max(d.g, d.b)) > kBoardChange;
+  }
+  if (!changed) return;
+  // One fetch: rgb = the surroundings' light, a = the green band's return.
+  const FloorReturnMap& map = floor_return_;
   std::vector<glm::vec4> packed(map.returned.size());
-  glm::dvec3 mean(0.0);
   for (size_t i = 0; i < packed.size(); ++i) {
-    packed[i] = glm::vec4(map.surround[i], map.returned[i].g);
-    mean += glm::dvec3(map.returned[i]);
+    glm::vec3 surround = map.sky[i];
+    for (int w = 0; w < 4; ++w) surround += map.board[w][i] * radiance[w];
+    packed[i] = glm::vec4(surround, map.returned[i].g);
   }
-  return_tint_ = glm::vec3(mean / std::max(mean.g, 1e-12));
-  // On its own unit: AllocTexture binds to the active one.
+  // On its own unit: AllocTexture binds to the active one. Half floats:
+  // the surroundings' term is negative by some walls.
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
-  AllocTexture(&floor_return_, GL_RGBA8, map.nx, map.ny, GL_RGBA, GL_FLOAT,
-               GL_LINEAR, GL_CLAMP_TO_EDGE, packed.data());
-  floor_return_tank_ = tank;
+  if (new_tank || !uploaded_) {
+    AllocTexture(&floor_return_tex_, GL_RGBA16F, map.nx, map.ny, GL_RGBA,
+                 GL_FLOAT, GL_LINEAR, GL_CLAMP_TO_EDGE, packed.data());
+  } else {
+    glBindTexture(GL_TEXTURE_2D, floor_return_tex_.id());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, map.nx, map.ny, GL_RGBA, GL_FLOAT,
+                    packed.data());
+  }
+  for (int w = 0; w < 4; ++w) board_radiance_[w] = radiance[w];
+  uploaded_ = true;
 }
 
 bool WaterPass::Create(const Options& options, std::string* error) {
@@ -194,9 +263,9 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // (b) One shading per marked pixel, in the water's screen rectangle: the
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
-  UpdateFloorReturn(scene.tank);
+  UpdateFloorReturn(f);
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
-  glBindTexture(GL_TEXTURE_2D, floor_return_.id());
+  glBindTexture(GL_TEXTURE_2D, floor_return_tex_.id());
   state.Disable(GL_DEPTH_TEST);
   const TankGeometry& t = scene.tank;
   const glm::ivec4 rect =

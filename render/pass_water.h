@@ -80,13 +80,23 @@ class WaterPass {
   void Prepare(const Shading& s, const FrameState& f,
                const RealObjectsState& real) const;
 
-  // The floor-return map for `tank` (computed on the CPU, once per tank).
-  void UpdateFloorReturn(const TankGeometry& tank);
+  // The floor-return map for the frame's tank (traced on the CPU, once per
+  // tank) and its surroundings' light for the board's radiance beyond each
+  // wall as this frame's video shows it (re-uploaded when that changes).
+  void UpdateFloorReturn(const FrameState& f);
+  // The board's radiance (linear) when no frame shows it: white paper.
+  static constexpr float kPaperRadiance = 0.85f;
+  // Changes of the board's radiance below this leave the map as it is.
+  static constexpr float kBoardChange = 0.002f;
 
   Options options_;
-  Texture floor_return_;  // RGBA: surroundings' light, green return
+  FloorReturnMap floor_return_;
+  Texture floor_return_tex_;  // RGBA: surroundings' light, green return
   glm::vec3 return_tint_{1.0f};
   std::optional<TankGeometry> floor_return_tank_;
+  glm::vec3 board_radiance_[4] = {glm::vec3(0.0f), glm::vec3(0.0f),
+                                  glm::vec3(0.0f), glm::vec3(0.0f)};
+  bool uploaded_ = false;
   Shading variants_[kVariants];
   Shading flat_;  // Effects::flat_water: one colour, whatever the effects
   Program depth_;

@@ -469,6 +469,7 @@ TEST(EffectsTest, PassesLeaveTheGlStateAtRest) {
 // grey table under flat clear water, seen from above with every effect but
 // refraction off, must read what render/optics.h predicts (the video
 // decoded, the floor's sky and direct light through the surface, the
+// surroundings through the walls with the board as the video shows it, the
 // floor<->surface inter-reflection, 1/n^2, Beer-Lambert, Fresnel), encoded
 // back with the video's transfer. Both transfers.
 TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
@@ -524,12 +525,15 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
              ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
     };
     auto returned = [&](int c) { return bilinear(ret.returned, c); };
-    auto surround = [&](int c) { return bilinear(ret.surround, c); };
     for (int c = 0; c < 3; ++c) {  // B, G, R
       const int rgb = 2 - c;
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
-      double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb] + surround(rgb)) *
+      // The board beyond every wall is the video's grey.
+      double surround = bilinear(ret.sky, rgb);
+      for (const std::vector<glm::vec3>& board : ret.board)
+        surround += bilinear(board, rgb) * video;
+      double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb] + surround) *
                  w.inv_n2 / (1 - returned(rgb) * video);
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
       x = HighlightShoulder(x, o.optics.highlight_knee);

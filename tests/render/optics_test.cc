@@ -173,6 +173,68 @@ TEST(OpticsTest, FloorReturnInTheTanksBox) {
   EXPECT_GT(tank.surround[5 * 17 + 8].g, 0.1);
 }
 
+// Clausius' law: inside a lossless dielectric of index n in an enclosure of
+// uniform radiance L, the radiance is n^2 L in every direction. A white
+// floor under clear water in the tank, the sky and the board around it of
+// radiance 1: the floor's light (sky through the surface, the surroundings
+// through the walls, its own light returned) must be n^2 at the centre, by
+// a wall and in a corner. The walls' glass is the water's index here: the
+// map's thin slab then transmits exactly (no light trapped in the glass,
+// which the map does not follow).
+TEST(OpticsTest, FloorLightInAUniformWorldIsNSquared) {
+  WaterOptics o;
+  o.absorption_per_m = glm::vec3(0.0f);
+  o.ambient_share = 1.0f;
+  o.glass_ior = o.ior;
+  const WaterShading shading =
+      ComputeWaterShading(o, 0.025, glm::dvec3(0.3, 0.2, 1.0));
+  const int nx = 17, ny = 11;
+  const FloorReturnMap map =
+      ComputeFloorReturn(o, 0.17, 0.11, 0.025, nx, ny, 4096, 1.0);
+  const double n2 = double(o.ior) * o.ior;
+  for (const int at : {5 * nx + 8, 5 * nx + 0, 0}) {
+    const double light = shading.floor_sky.g + map.surround[at].g;
+    const double floor = light / (1.0 - map.returned[at].g);
+    EXPECT_NEAR(floor / n2, 1.0, 0.002) << "texel " << at;
+  }
+}
+
+// The surroundings split by source add up to the constant-board map, and
+// each wall's landing points lie on the board beyond that wall (within the
+// distance a ray leaving the water's depth can travel at the steepest
+// down-going exit the points sample).
+TEST(OpticsTest, SurroundingsSplitByWallAndLandOnTheBoard) {
+  const WaterOptics o;
+  const double sx = 0.17, sy = 0.11, depth = 0.025, radiance = 0.6;
+  const FloorReturnMap map =
+      ComputeFloorReturn(o, sx, sy, depth, 17, 11, 512, radiance);
+  for (size_t i = 0; i < map.surround.size(); ++i) {
+    glm::vec3 sum = map.sky[i];
+    for (const std::vector<glm::vec3>& b : map.board)
+      sum += float(radiance) * b[i];
+    EXPECT_NEAR(sum.g, map.surround[i].g, 1e-5) << "texel " << i;
+    EXPECT_GT(map.board[0][i].g + map.board[1][i].g + map.board[2][i].g +
+                  map.board[3][i].g,
+              0.0f);
+  }
+  for (int w = 0; w < 4; ++w) {
+    ASSERT_EQ(map.board_points[w].size(), size_t(FloorReturnMap::kBoardPoints))
+        << "wall " << w;
+    for (const glm::dvec2& p : map.board_points[w]) {
+      const double beyond = w == 0   ? p.x - 0.5 * sx
+                            : w == 1 ? -0.5 * sx - p.x
+                            : w == 2 ? p.y - 0.5 * sy
+                                     : -0.5 * sy - p.y;
+      EXPECT_GE(beyond, 0.0) << "wall " << w;
+      EXPECT_LT(beyond, 1.0) << "wall " << w;
+    }
+  }
+  // The walls facing the centre symmetrically see symmetric shares.
+  const size_t centre = 5 * 17 + 8;
+  EXPECT_NEAR(map.board[0][centre].g, map.board[1][centre].g, 2e-3);
+  EXPECT_NEAR(map.board[2][centre].g, map.board[3][centre].g, 2e-3);
+}
+
 TEST(OpticsTest, OptionsAndNames) {
   std::string error;
   EXPECT_TRUE(WaterOptics::ForLook(WaterLook::kPool).IsValid(&error));

@@ -6,7 +6,9 @@
 // llvmpipe executes both sides of every branch, so each combination of
 // effects is its own program; all of them are compiled at creation.
 //
-// Redraw key: none (the output is redrawn every frame).
+// Redraw key: none (the output is redrawn every frame). The floor-return
+// map: traced when the tank changes; its surroundings' light re-uploaded
+// when the board's radiance beyond a wall, read from the video, changes.
 #ifndef RIPPLE_RENDER_PASS_WATER_H_
 #define RIPPLE_RENDER_PASS_WATER_H_
 

@@ -303,17 +303,14 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
             const glm::dvec3 share =
                 weight * (1.0 - r) * n * n * glm::exp(-sigma * length);
             if (d.z < 0 && r < 1.0) {
-              // Walls +x, -x, +y, -y. In the air the ray's components
-              // along the wall grow by n (a thin slab refracts as water to
-              // air); it lands on the board at z = 0.
+              // Walls +x, -x, +y, -y. A thin slab refracts as water to
+              // air; the ray lands on the board at z = 0.
               const int w = x_wall ? (d.x > 0 ? 0 : 1) : (d.y > 0 ? 2 : 3);
               board[w] += share;
-              glm::dvec3 out = d * n;
-              const double along = x_wall ? out.y * out.y + out.z * out.z
-                                          : out.x * out.x + out.z * out.z;
-              const double normal = std::sqrt(std::max(0.0, 1.0 - along));
-              (x_wall ? out.x : out.y) =
-                  (x_wall ? d.x : d.y) > 0 ? normal : -normal;
+              const glm::dvec3 wall_n =
+                  x_wall ? glm::dvec3(d.x > 0 ? -1.0 : 1.0, 0.0, 0.0)
+                         : glm::dvec3(0.0, d.y > 0 ? -1.0 : 1.0, 0.0);
+              const glm::dvec3 out = glm::refract(d, wall_n, n);
               const double s_land = p.z / -out.z;
               landings[w].emplace_back(
                   glm::dvec2(p.x + s_land * out.x, p.y + s_land * out.y),

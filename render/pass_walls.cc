@@ -12,11 +12,15 @@ bool WallsPass::Create(const Options& options, std::string* error) {
   if (options.env_cube) defines += "#define ENV_CUBE 1\n";
   if (options.sky) defines += "#define SKY 1\n";
   if (!BuildProgram(&programs_[0], "walls", "walls.vert", "walls.frag", defines,
-                    error)) {
+                    error) ||
+      !BuildProgram(&programs_[kFrontAbove], "front walls over the water",
+                    "walls.vert", "walls.frag",
+                    defines + "#define BOARD_MIRROR 1\n", error)) {
     return false;
   }
   for (int v = 0; v < 8; ++v) {
-    std::string front = defines + "#define FRONT_WALL 1\n";
+    std::string front =
+        defines + "#define FRONT_WALL 1\n#define BOARD_MIRROR 1\n";
     if (v & 1) front += "#define SHADOWS 1\n";
     if (v & 2) front += "#define CAUSTICS 1\n";
     if (v & 4) front += "#define UNDER_SURFACE 1\n";
@@ -38,12 +42,13 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
     z_range_[i] = programs_[i].Uniform("u_z_range");
     return_tint_[i] = programs_[i].Uniform("u_return_tint");
+    board_mirror_[i] = programs_[i].Uniform("u_board_mirror");
   }
   return true;
 }
 
 void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
-                     const glm::vec3& return_tint) {
+                     const glm::vec3& return_tint, bool board_mirror) {
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -86,7 +91,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     bool front;
   };
   const Part parts[4] = {{0, deep, t.wall_height, false},
-                         {0, split, t.wall_height, true},
+                         {kFrontAbove, split, t.wall_height, true},
                          {front_program, deep, split, true},
                          {front_program + 4, 0.0f, deep, true}};
   for (const Part& part : parts) {
@@ -97,6 +102,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     SetUniform(floor_sun_[p], f.shading.floor_sun);
     glUniform1f(inv_n2_[p], f.shading.inv_n2);
     SetUniform(return_tint_[p], return_tint);
+    glUniform1f(board_mirror_[p], board_mirror ? 1.0f : 0.0f);
     glUniform2f(z_range_[p], part.z0, part.z1);
     for (int i = 0; i < 4; ++i) {
       if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);

@@ -381,7 +381,10 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video(), m.real_state);
-  if (fx.walls) m.walls.Draw(f, m.walls_mesh, m.water.return_tint());
+  if (fx.walls) {
+    m.walls.Draw(f, m.walls_mesh, m.water.return_tint(),
+                 fx.reflection && m.video.have_video());
+  }
   m.timings.main_ms = m.timer.End(PassTimer::kMain);
 
   if (m.options.timing == RendererOptions::Timing::kGpuQueries) {

@@ -38,9 +38,12 @@ uniform samplerCube u_sky;       // daylight sky, tank frame, display units
 #endif
 
 // The environment towards the tank-frame direction r: the cube map, or
-// `fallback` (the caller's fold or uniform sky); outdoors, rays climbing
-// above what the video shows of the surroundings see the sky, blended in
-// between 20 and 60 degrees of elevation (sin = 0.342, 0.866).
+// `fallback` (the caller's fold or uniform sky), where the video shows the
+// surroundings; rays climbing above that see what no camera looking at a
+// table sees, the overhead: the sky the lighting model assumes (outdoors
+// the daylight sky, indoors the uniform sky of radiance u_ambient that the
+// ambient term integrates), blended in between 20 and 60 degrees of
+// elevation (sin = 0.342, 0.866).
 vec3 Environment(vec3 r, vec3 fallback) {
 #ifdef ENV_CUBE
   vec3 env = textureLod(u_env, u_cube_from_tank * r, 0.0).rgb;
@@ -48,9 +51,11 @@ vec3 Environment(vec3 r, vec3 fallback) {
   vec3 env = fallback;
 #endif
 #ifdef SKY
-  env = mix(env, textureLod(u_sky, r, 0.0).rgb, smoothstep(0.342, 0.866, r.z));
+  vec3 overhead = textureLod(u_sky, r, 0.0).rgb;
+#else
+  vec3 overhead = vec3(u_ambient);
 #endif
-  return env;
+  return mix(env, overhead, smoothstep(0.342, 0.866, r.z));
 }
 
 // The video's encoded value -> linear light (u_srgb_out: the video's

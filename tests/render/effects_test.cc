@@ -545,5 +545,65 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
   }
 }
 
+// A glass wall facing the camera is a vertical mirror: its faces reflect
+// the board in front of it (2 x Fresnel at the ray's incidence), which the
+// video shows. A band of the board painted red, then green, changes the
+// front glass over the water by that share of the difference; a band out
+// of the mirror's reach leaves it unchanged.
+TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  RendererOptions o;
+  auto r = Renderer::TryCreate(
+      ctx.get(), MakeScene(kW, kH, View::kFront, false).k, o, nullptr);
+  ASSERT_NE(r, nullptr);
+  // The front glass's point over the water, seen from the front view.
+  TestScene base = MakeScene(kW, kH, View::kFront, false);
+  const TankGeometry& t = base.inputs.tank;
+  const glm::dvec3 p(0.0, -0.5 * t.size_y,
+                     0.5 * (t.water_level + t.wall_height));
+  const glm::dvec3 eye = glm::inverse(base.inputs.cam_from_tank)[3];
+  const glm::dvec3 v = glm::normalize(p - eye);
+  const glm::dvec3 mirrored(v.x, -v.y, v.z);
+  const glm::dvec3 board = p + mirrored * (p.z / -mirrored.z);
+  ASSERT_LT(board.y, -0.5 * t.size_y - 0.01);  // on the board in front
+  const glm::dvec4 pc = base.inputs.cam_from_tank * glm::dvec4(p, 1.0);
+  const int u =
+      static_cast<int>(std::lround(base.k.fx * pc.x / pc.z + base.k.cx));
+  const int w =
+      static_cast<int>(std::lround(base.k.fy * pc.y / pc.z + base.k.cy));
+  // Renders with the board's band y in [y0, y1] painted `bgr`.
+  auto render = [&](double y0, double y1, cv::Vec3b bgr) {
+    TestScene s = MakeScene(kW, kH, View::kFront, false);
+    s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+    const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+    for (int y = 0; y < kH; ++y) {
+      for (int x = 0; x < kW; ++x) {
+        const glm::dvec3 ray = glm::dvec3(
+            tank_from_cam *
+            glm::dvec4((x - s.k.cx) / s.k.fx, (y - s.k.cy) / s.k.fy, 1.0, 0.0));
+        if (ray.z >= 0) continue;
+        const double by = eye.y + ray.y * (eye.z / -ray.z);
+        if (by < y0 || by > y1) continue;
+        for (int c = 0; c < 3; ++c) s.video[3 * (y * kW + x) + c] = bgr[c];
+      }
+    }
+    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(w, u);
+  };
+  const double lo = board.y - 0.01, hi = board.y + 0.005;
+  const cv::Vec3b red = render(lo, hi, {0, 0, 255});
+  const cv::Vec3b green = render(lo, hi, {0, 255, 0});
+  // Over the water the glass blends on encoded values to first order: the
+  // reflected linear radiance enters at 0.66 x (walls.frag).
+  const double cos_i = std::abs(v.y);
+  const double reflectance = 2.0 * FresnelReflectance(cos_i, 1.0, 1.5);
+  const double want = 255.0 * 0.66 * reflectance;  // linear 1 -> 0 in R, G
+  EXPECT_NEAR(red[2] - green[2], want, 0.25 * want);
+  EXPECT_NEAR(green[1] - red[1], want, 0.25 * want);
+  // Beyond the mirror's reach the paint does not show in the glass.
+  const cv::Vec3b far_red = render(-0.4, -0.3, {0, 0, 255});
+  const cv::Vec3b far_green = render(-0.4, -0.3, {0, 255, 0});
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(far_red[c], far_green[c], 1) << c;
+}
+
 }  // namespace
 }  // namespace ripple::render

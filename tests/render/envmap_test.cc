@@ -15,6 +15,7 @@
 #include "render/frame_state.h"
 #include "render/gl.h"
 #include "render/gl_objects.h"
+#include "render/optics.h"
 #include "render/pass_envmap.h"
 #include "render/renderer.h"
 #include "tests/render/render_test_util.h"
@@ -258,6 +259,25 @@ TEST_F(EnvMapGlTest, TrapezoidsMapProjectivelyWithoutACrease) {
   EXPECT_GT(glm::length(affine - centre) * kSrcH, 3.0);
 }
 
+// The test scene over a frame painted by piece (PaintPieces, the tank's box
+// black), without shadows, caustics and walls, the light placed so that no
+// glint falls near the tank's centre.
+testing::TestScene PaintedScene(int w, int h, testing::View view,
+                                const EnvMapOptions& e) {
+  testing::TestScene s = testing::MakeScene(w, h, view, false);
+  SceneInputs& in = s.inputs;
+  const glm::dvec4 box =
+      EnvMapBox(s.k, in.cam_from_tank, in.tank, e.box_scale, e.box_margin);
+  const std::vector<glm::vec4> pieces = PaintPieces(w, h, box);
+  for (size_t i = 0; i < pieces.size(); ++i) {
+    for (int ch = 0; ch < 3; ++ch)  // BGR8
+      s.video[3 * i + ch] = static_cast<std::uint8_t>(255 * pieces[i][2 - ch]);
+  }
+  in.effects.shadows = in.effects.caustics = in.effects.walls = false;
+  in.light_in_tank = {-0.3, -1.0, 0.4};
+  return s;
+}
+
 // The renderer with the cube map over a frame painted by piece (the tank's
 // box black, so the water shows only its reflection): the reflection of the
 // water's centre takes the colour of the face its reflected ray points at,
@@ -268,6 +288,10 @@ TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   RendererOptions options;
   options.reflection_map = ReflectionMap::kCubeMap;
+  // Rays climbing over 20 degrees blend towards the overhead sky (radiance
+  // the ambient share, see SteepReflectionsSeeTheSkyOverhead): a black sky
+  // keeps each face's chromaticity.
+  options.optics.ambient_share = 0.0f;
   const Intrinsics k0 = testing::MakeIntrinsics(kW, kH);
   std::string error;
   auto renderer = Renderer::TryCreate(ctx.get(), k0, options, &error);
@@ -284,19 +308,8 @@ TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
   std::uint64_t counter = 0;
   for (const auto& c : cases) {
     SCOPED_TRACE(c.slope);
-    testing::TestScene s = testing::MakeScene(kW, kH, c.view, false);
-    const EnvMapOptions& e = options.envmap;
+    testing::TestScene s = PaintedScene(kW, kH, c.view, options.envmap);
     SceneInputs& in = s.inputs;
-    const glm::dvec4 box =
-        EnvMapBox(s.k, in.cam_from_tank, in.tank, e.box_scale, e.box_margin);
-    const std::vector<glm::vec4> pieces = PaintPieces(kW, kH, box);
-    for (size_t i = 0; i < pieces.size(); ++i) {
-      for (int ch = 0; ch < 3; ++ch)  // BGR8
-        s.video[3 * i + ch] =
-            static_cast<std::uint8_t>(255 * pieces[i][2 - ch]);
-    }
-    in.effects.shadows = in.effects.caustics = in.effects.walls = false;
-    in.light_in_tank = {-0.3, -1.0, 0.4};  // no glint near the reflection
     // h = slope * x * exp(-x^2 / (2 sigma^2)): the normal (-slope, 0, 1)
     // at the centre, the surface within 2.5 mm of the rest level.
     const int nx = 256, ny = 166;
@@ -340,6 +353,57 @@ TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
   }
   // A new view is a new fold; the same view and frame again is not.
   EXPECT_EQ(rebuilds, 2);  // front, then top (the tilt alone changes nothing)
+}
+
+// No camera looking at a table sees what is overhead: reflected rays that
+// climb steeply take the sky the lighting assumes (uniform, of radiance the
+// ambient share), whatever the frame shows, with the fold and the cube map
+// alike. Flat water seen from straight above over a frame painted in
+// saturated pieces reflects grey, Fresnel times the sky: R(0) a.
+TEST(EnvMapLookupTest, SteepReflectionsSeeTheSkyOverhead) {
+  constexpr int kW = 320, kH = 240;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  for (ReflectionMap map : {ReflectionMap::kFold, ReflectionMap::kCubeMap}) {
+    SCOPED_TRACE(static_cast<int>(map));
+    RendererOptions options;
+    options.reflection_map = map;
+    options.optics.ambient_share = 1.0f;  // the sky alone lights the board
+    const Intrinsics k0 = testing::MakeIntrinsics(kW, kH);
+    std::string error;
+    auto renderer = Renderer::TryCreate(ctx.get(), k0, options, &error);
+    ASSERT_NE(renderer, nullptr) << error;
+    testing::TestScene s =
+        PaintedScene(kW, kH, testing::View::kTop, options.envmap);
+    SceneInputs& in = s.inputs;
+    in.effects.refraction = false;  // the water shows its reflection only
+    ASSERT_TRUE(renderer->Render(in));
+    std::vector<std::uint8_t> on(static_cast<size_t>(kW) * kH * 3);
+    ASSERT_TRUE(renderer->ReadBgr(on.data()));
+    in.effects.reflection = false;
+    ASSERT_TRUE(renderer->Render(in));
+    std::vector<std::uint8_t> off(on.size());
+    ASSERT_TRUE(renderer->ReadBgr(off.data()));
+    // The reflected ray at the centre climbs steeply.
+    const glm::dvec3 centre(0.0, 0.0, in.tank.water_level);
+    const glm::dvec3 eye(glm::inverse(in.cam_from_tank)[3]);
+    const glm::dvec3 r =
+        glm::reflect(glm::normalize(centre - eye), glm::dvec3(0.0, 0.0, 1.0));
+    ASSERT_GT(r.z, 0.9);
+    const glm::dvec4 p = in.cam_from_tank * glm::dvec4(centre, 1.0);
+    const int u = static_cast<int>(std::lround(s.k.fx * p.x / p.z + s.k.cx));
+    const int v = static_cast<int>(std::lround(s.k.fy * p.y / p.z + s.k.cy));
+    // What the reflection adds, in linear light, per band.
+    glm::dvec3 added(0.0);
+    for (int ch = 0; ch < 3; ++ch) {
+      const size_t i = 3 * (static_cast<size_t>(v) * kW + u) + ch;
+      added[2 - ch] =
+          SrgbToLinear(on[i] / 255.0) - SrgbToLinear(off[i] / 255.0);
+    }
+    // Fresnel at normal incidence for water: ((n - 1) / (n + 1))^2 = 0.0204,
+    // times the sky's radiance 1; the 8-bit levels near the floor's colour
+    // are about 0.004 apart in linear light.
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(added[c], 0.0204, 0.006) << c;
+  }
 }
 
 }  // namespace

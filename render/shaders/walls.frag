@@ -21,6 +21,9 @@
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;
+#ifdef BOARD_MIRROR
+in vec4 v_board;  // walls.vert
+#endif
 layout(location = 0, index = 0) out vec4 o_color;
 layout(location = 0, index = 1) out vec4 o_transmit;
 uniform vec3 u_sigma;
@@ -76,22 +79,18 @@ void main() {
   vec3 nrm = normalize(v_n);
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
-  // What the glass reflects. A wall facing the camera (BOARD_MIRROR) mirrors the ray
-  // downwards onto the board in front of it, which the video shows: that
-  // board point, looked up in the quarter-size reflection map (the glass
-  // shows the tags and the paper around the tank mirrored, as real glass
-  // does; it reflects a few per cent, so the map's blur hardly shows).
-  // Rays mirrored upwards, into the tank's own footprint (the far walls'
-  // rays, which meet the water) or out of the frame see the uniform sky or
-  // the environment (cube map, daylight sky).
-  vec3 r = reflect(v, nrm);
-  vec3 sky_seen = Environment(r, vec3(u_ambient));
+  // What the glass reflects: the uniform sky, or the environment (cube map,
+  // daylight sky) by the mirrored ray. A wall facing the camera
+  // (BOARD_MIRROR) mirrors the ray downwards onto the board in front of it,
+  // which the video shows: that board point (walls.vert), looked up in the
+  // quarter-size reflection map while it lies in the frame (the glass shows
+  // the tags and the paper around the tank mirrored, as real glass does; it
+  // reflects a few per cent, so the map's blur hardly shows).
+  vec3 sky_seen = Environment(reflect(v, nrm), vec3(u_ambient));
 #ifdef BOARD_MIRROR
-  vec3 board = v_p - r * (v_p.z / min(r.z, -1e-4));
-  vec2 board_uv = VideoUv(board);
-  bool board_seen = u_board_mirror > 0.5 && r.z < -1e-4 &&
-                    any(greaterThan(abs(board.xy), half_size)) &&
-                    all(greaterThan(board_uv, vec2(0.0))) &&
+  vec2 board_uv = (v_board.xy / v_board.z + 0.5) / u_image_size;
+  bool board_seen = u_board_mirror > 0.5 && v_board.w > 0.0 &&
+                    v_board.z > 0.0 && all(greaterThan(board_uv, vec2(0.0))) &&
                     all(lessThan(board_uv, vec2(1.0)));
   if (board_seen)
     sky_seen = DecodeVideo(textureLod(u_reflection, board_uv, 0.0).rgb);

@@ -264,6 +264,12 @@ struct CausticsWorkspace::Buffers {
   std::vector<AccumBuffer> bufs;
   // Resolve: column sums and the resolved rows.
   std::vector<float> col_c, col_q, resolved;
+  std::vector<float> penumbra;  // the map before the light's disc blurs it
+  // The disc's kernel depends on the tank, the light and the map only.
+  std::vector<float> penumbra_kernel;
+  int penumbra_r = 0;
+  std::array<double, 8> penumbra_key{};
+  bool penumbra_valid = false;
 };
 CausticsWorkspace::CausticsWorkspace() : buffers(new Buffers) {}
 CausticsWorkspace::~CausticsWorkspace() = default;
@@ -274,6 +280,11 @@ bool CausticsOptions::IsValid(std::string* error) const {
   }
   if (!(ior >= 1.0)) {
     if (error) *error = "caustics: ior must be >= 1";
+    return false;
+  }
+  if (!(light_angular_radius_rad >= 0 && light_angular_radius_rad < 0.2)) {
+    if (error)
+      *error = "caustics: light angular radius must be in [0, 0.2) rad";
     return false;
   }
   if (attenuation_per_m < 0 || threads < 1) {
@@ -346,6 +357,33 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
   }
 }
 
+// Convolves the map with the light's disc (CausticsOptions::
+// light_angular_radius_rad).
+void AddPenumbra(const CausticsOptions& o, const TankGeometry& tank,
+                 const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
+                 std::vector<float>* map) {
+  if (!(o.light_angular_radius_rad > 0)) return;
+  const double tx = static_cast<double>(tank.size_x) / o.map_nx;
+  const double ty = static_cast<double>(tank.size_y) / o.map_ny;
+  const std::array<double, 8> key = {
+      l.x, l.y, l.z, o.ior, o.light_angular_radius_rad, tank.water_level,
+      tx,  ty};
+  if (!ws->penumbra_valid || ws->penumbra_key != key) {
+    ws->penumbra_kernel = caustics_internal::PenumbraKernel(
+        tank, l, o.ior, o.light_angular_radius_rad, tx, ty, /*max_r=*/4,
+        &ws->penumbra_r);
+    ws->penumbra_key = key;
+    ws->penumbra_valid = true;
+  }
+  const int r = ws->penumbra_r;
+  const std::vector<float>& kernel = ws->penumbra_kernel;
+  if (r == 0) return;
+  ws->penumbra.swap(*map);
+  map->resize(ws->penumbra.size());
+  caustics_internal::ApplyPenumbra(kernel, r, o.map_nx, o.map_ny,
+                                   ws->penumbra.data(), map->data());
+}
+
 }  // namespace
 
 bool ComputeCaustics(const CausticsOptions& options,
@@ -378,6 +416,7 @@ bool ComputeCaustics(const CausticsOptions& options,
       summary->flux_outside = summary->flux_in - summary->flux_deposited;
     }
     AddWalls(options, tank, ld, &ws, map, summary);
+    AddPenumbra(options, tank, ld, &ws, map);
     return true;
   }
   const bool simd = options.simd;
@@ -513,6 +552,7 @@ bool ComputeCaustics(const CausticsOptions& options,
     summary->flux_outside += in_buffer - in_map;  // in the margin
   }
   AddWalls(options, tank, glm::normalize(light_in_tank), &ws, map, summary);
+  AddPenumbra(options, tank, glm::normalize(light_in_tank), &ws, map);
   return true;
 }
 

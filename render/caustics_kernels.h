@@ -175,6 +175,24 @@ double AddWallLight(const TankGeometry& tank, const glm::dvec3& l, double ior,
                     double glass_ior, double attenuation_per_m, int mx, int my,
                     float* map);
 
+// The penumbra of a light of angular radius `alpha` (radians): each
+// direction within alpha of `l` lights the floor with the same pattern,
+// moved by the shift of its refracted ray over the rest depth (exact for
+// flat water, the usual approximation under ripples). The kernel is the
+// share of the disc's directions whose shift rounds to each texel offset
+// (i, j) in [-r, r]^2 (row-major, (2r + 1)^2 weights summing to 1): the
+// disc convolved with the map's texel-constant irradiance and read at the
+// texel centres. r is at most `max_r`; 0 for alpha 0. tx, ty: texel size
+// (metres).
+std::vector<float> PenumbraKernel(const TankGeometry& tank, const glm::dvec3& l,
+                                  double ior, double alpha, double tx,
+                                  double ty, int max_r, int* r);
+
+// out = map convolved with the kernel (edges clamped: a texel beyond the
+// map reads its nearest edge texel), mx x my, row-major.
+void ApplyPenumbra(const std::vector<float>& kernel, int r, int mx, int my,
+                   const float* map, float* out);
+
 }  // namespace ripple::render::caustics_internal
 
 #endif  // RIPPLE_RENDER_CAUSTICS_KERNELS_H_

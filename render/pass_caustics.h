@@ -36,6 +36,7 @@ class CausticsPass {
     double attenuation_per_m = 0.0;
     double ior = 1.333;      // water
     double glass_ior = 1.5;  // walls (light through them, CausticsOptions)
+    double light_angular_radius_rad = 0.0;  // the light's disc (penumbra)
   };
   void Create(const Options& options);
 

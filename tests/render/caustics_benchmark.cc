@@ -1,6 +1,7 @@
 // The CPU caustics kernel: an N x N surface into a 256 x 256 map, one core
-// (threads = 1) unless the second argument says otherwise. The target
-// is N = 128 in <= 1 ms on one core.
+// (threads = 1) unless the second argument says otherwise; the third
+// turns on the light's 2-degree disc (the penumbra's convolution). The
+// target is N = 128 in <= 1 ms on one core.
 //
 //   build-render/tests/render/render_caustics_benchmark
 #include <benchmark/benchmark.h>
@@ -35,6 +36,8 @@ void BM_Caustics(benchmark::State& state) {
   const HeightFieldView view{h.data(), n, n, d, 1};
   CausticsOptions o;
   o.threads = static_cast<int>(state.range(1));
+  // The renderer's default light: a disc of 2 degrees (its penumbra).
+  if (state.range(2)) o.light_angular_radius_rad = 2.0 * M_PI / 180.0;
   o.attenuation_per_m = 5.0;
   std::vector<float> map;
   CausticsWorkspace workspace;
@@ -46,12 +49,14 @@ void BM_Caustics(benchmark::State& state) {
   state.counters["triangles"] = 2.0 * n * n;
 }
 BENCHMARK(BM_Caustics)
-    ->ArgNames({"n", "threads"})
-    ->Args({64, 1})
-    ->Args({83, 1})
-    ->Args({128, 1})
-    ->Args({256, 1})
-    ->Args({128, 2})
+    ->ArgNames({"n", "threads", "disc"})
+    ->Args({64, 1, 0})
+    ->Args({83, 1, 0})
+    ->Args({128, 1, 0})
+    ->Args({128, 1, 1})
+    ->Args({256, 1, 0})
+    ->Args({256, 1, 1})
+    ->Args({128, 2, 0})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

@@ -10,6 +10,7 @@
 #include <numeric>
 #include <vector>
 
+#include "render/caustics_kernels.h"
 #include "render/optics.h"
 
 namespace ripple::render {
@@ -210,6 +211,83 @@ TEST(CausticsTest, GlassNearTheWallsFollowsTheSlabFormulas) {
 // Oblique light shifts the lit area by level * tan(refracted angle) away
 // from the light; outside the unlit strip along the walls nearest the light
 // the map stays uniform.
+// The light's disc of angular radius alpha: straight down through flat
+// water a direction tilted by b refracts to asin(sin b / n), so the disc
+// lands on the floor as a uniform disc of radius
+// rho = level tan(asin(sin alpha / n)), whose variance per axis is rho^2 / 4
+// (plus 1/12 texel^2 for rounding each direction to its texel). Under an
+// oblique light the footprint is no longer round but stays centred.
+TEST(CausticsTest, PenumbraIsTheLightsDiscOnTheFloor) {
+  const TankGeometry tank;
+  const double n = 1.333, alpha = 2.0 * M_PI / 180.0;
+  const double tx = tank.size_x / 1024.0, ty = tank.size_y / 1024.0;
+  int r = -1;
+  const std::vector<float> none =
+      caustics_internal::PenumbraKernel(tank, {0, 0, 1}, n, 0.0, tx, ty, 8, &r);
+  EXPECT_EQ(r, 0);
+  ASSERT_EQ(none.size(), 1u);
+  EXPECT_EQ(none[0], 1.0f);
+  for (const glm::dvec3& light :
+       {glm::dvec3(0, 0, 1), glm::normalize(glm::dvec3(0.35, 0.25, 1.0))}) {
+    SCOPED_TRACE(light.x);
+    const std::vector<float> k =
+        caustics_internal::PenumbraKernel(tank, light, n, alpha, tx, ty, 8, &r);
+    ASSERT_GT(r, 0);
+    ASSERT_LT(r, 8);  // the whole disc fits
+    const int side = 2 * r + 1;
+    double sum = 0, mx = 0, my = 0, vx = 0, vy = 0;
+    for (int j = 0; j < side; ++j) {
+      for (int i = 0; i < side; ++i) {
+        const double w = k[j * side + i], x = i - r, y = j - r;
+        sum += w;
+        mx += w * x;
+        my += w * y;
+        vx += w * x * x;
+        vy += w * y * y;
+      }
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-5);
+    EXPECT_NEAR(mx, 0.0, 0.05);
+    EXPECT_NEAR(my, 0.0, 0.05);
+    if (light.x == 0) {
+      const double rho =
+          tank.water_level * std::tan(std::asin(std::sin(alpha) / n));
+      EXPECT_NEAR(vx * tx * tx, rho * rho / 4 + tx * tx / 12, 0.05 * rho * rho);
+      EXPECT_NEAR(vy * ty * ty, rho * rho / 4 + ty * ty / 12, 0.05 * rho * rho);
+    }
+  }
+}
+
+// Under flat water and an oblique light the disc softens the edge of the
+// strip the surface's light misses, and moves no light: every row keeps its
+// sum, and the interior stays exactly 1.
+TEST(CausticsTest, PenumbraSoftensTheStripEdgeAndKeepsTheLight) {
+  const TankGeometry tank;
+  CausticsOptions o;
+  o.map_nx = o.map_ny = 512;
+  o.light_through_walls = false;
+  o.glass_near_walls = false;
+  std::vector<float> sharp, soft;
+  const glm::dvec3 light(0.35, 0.25, 1.0);
+  ASSERT_TRUE(ComputeCaustics(o, {}, tank, light, &sharp, nullptr));
+  o.light_angular_radius_rad = 2.0 * M_PI / 180.0;
+  ASSERT_TRUE(ComputeCaustics(o, {}, tank, light, &soft, nullptr));
+  int soft_texels = 0, sharp_texels = 0;
+  for (int b = 20; b < 400; ++b) {
+    double s0 = 0, s1 = 0;
+    for (int a = 0; a < 512; ++a) {
+      const float v0 = sharp[b * 512 + a], v1 = soft[b * 512 + a];
+      s0 += v0;
+      s1 += v1;
+      sharp_texels += v0 > 0.02f && v0 < 0.98f;
+      soft_texels += v1 > 0.02f && v1 < 0.98f;
+    }
+    EXPECT_NEAR(s1, s0, 1e-3) << b;
+    for (int a = 0; a < 400; ++a) EXPECT_NEAR(soft[b * 512 + a], 1.0, 1e-5);
+  }
+  EXPECT_GT(soft_texels, 2 * sharp_texels);  // a penumbra, not an edge
+}
+
 TEST(CausticsTest, FlatWaterUnderObliqueLightIsUniformInside) {
   Field f = MakeField(0.0);
   const TankGeometry tank;

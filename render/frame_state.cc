@@ -24,6 +24,70 @@ FrameState MakeFrameState(const SceneInputs& scene, const Intrinsics& k,
   return f;
 }
 
+bool VideoRadianceAt(const VideoFrame& v, const Intrinsics& k,
+                     const glm::dmat4& cam_from_tank, const glm::dvec2& q,
+                     bool srgb, glm::dvec3* rgb) {
+  if (v.bgr == nullptr || v.width <= 0 || v.height <= 0) return false;
+  const glm::dvec3 c = glm::dvec3(cam_from_tank * glm::dvec4(q, 0.0, 1.0));
+  if (!(c.z > 1e-3)) return false;
+  const glm::dvec2 px = DistortedPixel(k, c.x / c.z, c.y / c.z);
+  const int u = static_cast<int>(std::floor((px.x + 0.5) * v.width / k.width));
+  const int r =
+      static_cast<int>(std::floor((px.y + 0.5) * v.height / k.height));
+  if (u < 0 || r < 0 || u >= v.width || r >= v.height) return false;
+  const int stride = v.stride_bytes > 0 ? v.stride_bytes : 3 * v.width;
+  const std::uint8_t* bgr = v.bgr + static_cast<size_t>(r) * stride + 3 * u;
+  for (int ch = 0; ch < 3; ++ch) {
+    const double e = bgr[2 - ch] / 255.0;
+    (*rgb)[ch] = srgb ? SrgbToLinear(e) : e;
+  }
+  return true;
+}
+
+GroundRadiance MeasureGroundRadiance(const SceneInputs& scene,
+                                     const Intrinsics& k, bool srgb,
+                                     const GroundRadiance& fallback) {
+  const TankGeometry& t = scene.tank;
+  const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
+  constexpr int kN = 8;
+  auto mean = [&](auto&& point, const glm::vec3& none) {
+    glm::dvec3 sum(0.0), rgb;
+    int count = 0;
+    for (int j = 0; j < kN; ++j) {
+      for (int i = 0; i < kN; ++i) {
+        if (VideoRadianceAt(scene.video, k, scene.cam_from_tank,
+                            point((i + 0.5) / kN, (j + 0.5) / kN), srgb,
+                            &rgb)) {
+          sum += rgb;
+          ++count;
+        }
+      }
+    }
+    return count > 0 ? glm::vec3(sum / double(count)) : none;
+  };
+  GroundRadiance g;
+  // The floor: its inner 80%.
+  g.floor = mean(
+      [&](double u, double v) {
+        return glm::dvec2((u - 0.5) * 1.6 * hx, (v - 0.5) * 1.6 * hy);
+      },
+      fallback.floor);
+  // The ring 1-4 cm outside the walls: u runs around it, v across it.
+  g.board = mean(
+      [&](double u, double v) {
+        const double d = 0.01 + 0.03 * v;
+        const double ax = hx + d, ay = hy + d;
+        const double s = u * 4.0 * (ax + ay);  // along the ring's perimeter
+        if (s < 2 * ax) return glm::dvec2(-ax + s, -ay);
+        if (s < 2 * ax + 2 * ay) return glm::dvec2(ax, -ay + (s - 2 * ax));
+        if (s < 4 * ax + 2 * ay)
+          return glm::dvec2(ax - (s - 2 * ax - 2 * ay), ay);
+        return glm::dvec2(-ax, ay - (s - 4 * ax - 2 * ay));
+      },
+      fallback.board);
+  return g;
+}
+
 void CommonUniforms::Resolve(const Program& p) {
   clip_from_tank_ = p.Uniform("u_clip_from_tank");
   cam_from_tank_ = p.Uniform("u_cam_from_tank");

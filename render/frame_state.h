@@ -59,6 +59,16 @@ struct ShadowTransform {
   glm::vec2 texel{0.0f};  // PCF / Gaussian tap offset, texture units
 };
 
+// What the virtual obstacles' diffuse surfaces see around them, from the
+// video (display units, linear RGB; RendererOptions' video transfer): the
+// board around the tank, a ring 1-4 cm outside the inner walls, and the
+// tank's floor, its inner 80%, both dry. Each is the mean over the samples
+// the frame shows; `fallback` where it shows none.
+struct GroundRadiance {
+  glm::vec3 board{0.85f};
+  glm::vec3 floor{0.85f};
+};
+
 // Per-frame values, computed once by the renderer.
 struct FrameState {
   const SceneInputs* scene = nullptr;
@@ -74,6 +84,7 @@ struct FrameState {
   WaterShading shading;            // for this light and depth
   glm::dmat3 cube_from_tank{1.0};  // the environment cube's frame
   bool srgb_output = true;
+  GroundRadiance ground;  // the obstacles' surroundings (MeasureGroundRadiance)
 };
 
 // `optics` must outlive the frame; `shading` is left for the caller, which
@@ -101,6 +112,18 @@ class CommonUniforms {
         shadow_on_ = -1, shadow_texel_ = -1, shadow_bias_ = -1, srgb_out_ = -1,
         knee_ = -1, ambient_ = -1, cube_from_tank_ = -1;
 };
+
+// The video's linear radiance (RGB; decoded when `srgb`) at the board point
+// q (tank frame, z = 0), through the lens as the frame shows it; false when
+// it lies behind the camera or outside the frame, or there is no frame.
+bool VideoRadianceAt(const VideoFrame& v, const Intrinsics& k,
+                     const glm::dmat4& cam_from_tank, const glm::dvec2& q,
+                     bool srgb, glm::dvec3* rgb);
+
+// GroundRadiance for this frame's video.
+GroundRadiance MeasureGroundRadiance(const SceneInputs& scene,
+                                     const Intrinsics& k, bool srgb,
+                                     const GroundRadiance& fallback);
 
 // glUniform wrappers for glm types (location -1 is ignored, as by GL).
 void SetUniform(GLint location, const glm::dmat4& m);

@@ -19,6 +19,13 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
     solid_common_[i].Resolve(solid_[i]);  // leaves solid_[i] bound
     solid_model_[i].Resolve(solid_[i]);
     SetUniform(solid_[i].Uniform("u_albedo"), options.albedo);
+    ground_[i] = solid_[i].Uniform("u_ground");
+    floor_wet_[i] = solid_[i].Uniform("u_floor_wet");
+    floor_sky_[i] = solid_[i].Uniform("u_floor_sky");
+    floor_sun_[i] = solid_[i].Uniform("u_floor_sun");
+    inv_n2_[i] = solid_[i].Uniform("u_inv_n2");
+    glUniform1f(solid_[i].Uniform("u_internal_reflectance"),
+                static_cast<float>(DiffuseInternalReflectance(options.ior)));
   }
   depth_model_.Resolve(depth_);
   return true;
@@ -41,6 +48,15 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   if (!scene.obstacles.empty()) {
     const int i = scene.effects.shadows ? 1 : 0;
     solid_common_[i].Set(solid_[i], f, f.clip_from_tank);
+    // The floor's radiance in the water: the dry floor the video shows, lit
+    // as the water lights it (the flat surface's sky and light).
+    const glm::vec3 wet =
+        f.ground.floor * (f.shading.floor_sky + f.shading.floor_sun);
+    SetUniform(ground_[i], f.ground.board);
+    SetUniform(floor_wet_[i], wet);
+    SetUniform(floor_sky_[i], f.shading.floor_sky);
+    SetUniform(floor_sun_[i], f.shading.floor_sun);
+    glUniform1f(inv_n2_[i], f.shading.inv_n2);
     solids.Draw(scene, solid_model_[i], f.clip_from_tank, true, false);
   }
   // The water only looks up points inside the tank, so only the tank's

@@ -1,7 +1,9 @@
 // Obstacles pass (internal to render/): draws the virtual obstacles over the
-// video, copies video + obstacles under the tank for the water's refraction,
-// and lays the real pen's depth (a phantom: no colour) so that the pen hides
-// the water where it is in front of it.
+// video (lit by the sky, the board around them and the light; under the
+// water by the floor around them and the light through the surface), copies
+// video + obstacles under the tank for the water's refraction, and lays the
+// real pen's depth (a phantom: no colour) so that the pen hides the water where
+// it is in front of it.
 //
 // Redraw key: none (the output is redrawn every frame).
 #ifndef RIPPLE_RENDER_PASS_OBSTACLES_H_
@@ -22,6 +24,7 @@ class ObstaclesPass {
     glm::vec3 albedo{0.80f, 0.76f, 0.70f};  // linear RGB
     // ShadowFilterDefines of the renderer's filter (pass_shadow.h).
     std::string shadow_defines;
+    float ior = 1.333f;  // water: its surface's internal reflectance
   };
   bool Create(const Options& options, std::string* error);
   // (Re)allocates the refraction copy at the output's size.
@@ -37,6 +40,9 @@ class ObstaclesPass {
   Program solid_[2];  // without, with shadows
   CommonUniforms solid_common_[2];
   ModelUniforms solid_model_[2];
+  GLint ground_[2] = {-1, -1}, floor_wet_[2] = {-1, -1},
+        floor_sky_[2] = {-1, -1}, floor_sun_[2] = {-1, -1},
+        inv_n2_[2] = {-1, -1};
   Program depth_;
   ModelUniforms depth_model_;
   Texture scene_copy_tex_;

@@ -81,22 +81,11 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
     glm::dvec3 sum(0.0);
     int count = 0;
     for (const glm::dvec2& q : floor_return_.board_points[w]) {
-      if (v.bgr == nullptr || v.width <= 0 || v.height <= 0) break;
-      const glm::dvec3 c =
-          glm::dvec3(f.scene->cam_from_tank * glm::dvec4(q, 0.0, 1.0));
-      if (!(c.z > 1e-3)) continue;
-      const glm::dvec2 px = DistortedPixel(k, c.x / c.z, c.y / c.z);
-      const int u =
-          static_cast<int>(std::floor((px.x + 0.5) * v.width / k.width));
-      const int r =
-          static_cast<int>(std::floor((px.y + 0.5) * v.height / k.height));
-      if (u < 0 || r < 0 || u >= v.width || r >= v.height) continue;
-      const int stride = v.stride_bytes > 0 ? v.stride_bytes : 3 * v.width;
-      const std::uint8_t* bgr = v.bgr + static_cast<size_t>(r) * stride + 3 * u;
-      for (int ch = 0; ch < 3; ++ch) {
-        const double e = bgr[2 - ch] / 255.0;
-        sum[ch] += f.srgb_output ? SrgbToLinear(e) : e;
-      }
+      glm::dvec3 rgb;
+      if (!VideoRadianceAt(v, k, f.scene->cam_from_tank, q, f.srgb_output,
+                           &rgb))
+        continue;
+      sum += rgb;
       ++count;
     }
     if (count > 0) {

@@ -119,6 +119,9 @@ struct Renderer::Impl {
   internal::FrameTarget target;
   internal::SolidMeshes solids;
   internal::TankWallsMesh walls_mesh;
+  // What the obstacles' surfaces see around them, from the last frame
+  // with obstacles and video (FrameState::ground).
+  internal::GroundRadiance ground;
   internal::VideoBackgroundPass video;
   internal::HeightTexturePass height;
   internal::ShadowPass shadow;
@@ -173,8 +176,10 @@ bool Renderer::Impl::Init(std::string* error) {
   caustics_options.light_angular_radius_rad = o.optics.light_angular_radius_rad;
   const bool srgb = o.video_transfer == Transfer::kSrgb;
   const internal::ObstaclesPass::Options obstacles_options{
-      o.obstacle_albedo, internal::ShadowFilterDefines(
-                             o.shadow_filter, o.shadow_gauss_sigma_texels)};
+      o.obstacle_albedo,
+      internal::ShadowFilterDefines(o.shadow_filter,
+                                    o.shadow_gauss_sigma_texels),
+      o.optics.ior};
   const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
   const bool sky = o.daylight.has_value();
   const internal::WaterPass::Options water_options{
@@ -331,6 +336,11 @@ bool Renderer::Render(const SceneInputs& scene) {
   internal::FrameState f = internal::MakeFrameState(
       scene, m.k, m.options.optics, m.options.video_transfer);
   f.shading = m.Shading(scene);
+  if (!scene.obstacles.empty() && scene.video.bgr != nullptr) {
+    m.ground = internal::MeasureGroundRadiance(
+        scene, m.k, m.options.video_transfer == Transfer::kSrgb, m.ground);
+  }
+  f.ground = m.ground;
   const glm::ivec4 window = m.Window(scene.video, &f);
   m.timings.window = window;
 

@@ -5,16 +5,50 @@ in vec3 v_p;
 in vec3 v_n;
 out vec4 o_color;
 uniform vec3 u_albedo;
+// What surrounds the obstacles (pass_obstacles.cc, from the video; display
+// units, linear): the board around the tank (dry) and, under the water,
+// the floor's radiance in the water and the light from above the floor
+// gets (the sky through the surface).
+uniform vec3 u_ground;
+uniform vec3 u_floor_wet;
+uniform vec3 u_floor_sky;
+uniform vec3 u_floor_sun;
+uniform float u_internal_reflectance;  // of the surface, seen from below
+uniform float u_inv_n2;
 void main() {
   vec3 n = normalize(v_n);
-  float diffuse = max(dot(n, u_light), 0.0);
+  vec2 half_size = 0.5 * u_tank.xy;
+  bool in_tank = all(lessThan(abs(v_p.xy), half_size));
+  bool under = in_tank && v_p.z < SurfaceZ(clamp(v_p.xy, -half_size, half_size));
+  // Diffuse light on a face of normal n in units where the dry, unshadowed
+  // board reads its albedo (optics.h). A plane sees the upper hemisphere's
+  // mean radiance with weight (1 + n.z) / 2 and the lower's with (1 - n.z)
+  // / 2 (its view factors).
+  //   In air: the sky (radiance u_ambient) above, and below the board
+  //   around the tank or, over the tank, the water (the wet floor seen
+  //   through the surface, 1/n^2); the light's direct share by n.l /
+  //   cos(light).
+  //   Under water: above, the sky through the surface (what the floor gets
+  //   from it) and the floor's light that the surface returns (total
+  //   internal reflection outside Snell's window); below, the floor; the
+  //   light refracted at the flat surface, by n.t / cos(t).
+  float up = 0.5 * (1.0 + n.z), down = 0.5 * (1.0 - n.z);
+  vec3 t = -u_light_refracted;  // towards the light, under water
+  vec3 light_dir = under ? t : u_light;
+  float diffuse = max(dot(n, light_dir), 0.0) / max(light_dir.z, 1e-3);
 #ifdef SHADOWS
-  diffuse *= Shadow(v_p + n * 5e-4);
+  // Under the water the shadow map is read where the refracted light
+  // crossed the rest surface (as FloorShadow does for the floor).
+  vec3 lit_at = under ? v_p + t * ((u_tank.w - v_p.z) / max(t.z, 1e-3)) : v_p;
+  diffuse *= Shadow(lit_at + n * 5e-4);
 #endif
-  // The board's normalisation (optics.h): a horizontal, unshadowed surface
-  // reads its albedo; the direct share scales with n.l / cos(light).
-  float direct = (1.0 - u_ambient) * diffuse / max(u_light.z, 1e-3);
+  vec3 ground = in_tank ? u_floor_wet * u_inv_n2 : u_ground;
+  vec3 air = u_ambient * up + ground * down + (1.0 - u_ambient) * diffuse;
+  vec3 water = (u_floor_sky + u_internal_reflectance * u_floor_wet) * up +
+               u_floor_wet * down + u_floor_sun * diffuse;
   // Alpha 0 marks the obstacles' pixels for the water, which must not
-  // light them as the floor behind them (video and water write 1).
-  o_color = vec4(EncodeOutput(u_albedo * (u_ambient + direct)), 0.0);
+  // light them as the floor behind them (video and water write 1); under
+  // the water this is the radiance in the water, which the water pass sees
+  // through the surface (1/n^2, Fresnel, absorption).
+  o_color = vec4(EncodeOutput(u_albedo * (under ? water : air)), 0.0);
 }

@@ -198,18 +198,22 @@ void main() {
         mix(seen.rgb, DecodeVideo(board.rgb) * u_plate_gain, board.a);
   }
 #endif
+  // A virtual obstacle in the way (alpha 0, solid.frag) holds its radiance
+  // in the water: the floor's light does not apply to it.
+  float obstacle = 1.0 - seen.a;
+  // The real pen's shaft, as the video shows it in the air: lit through the
+  // surface like the floor, without the floor's shadow and caustics.
+  float shaft = 0.0;
 #ifdef REAL_PEN
   if (pen_hit) {
-    seen.a = 0.0;
+    obstacle = 0.0;
+    shaft = 1.0;
     th = s_pen;
     f = h;
     floor_seen = true;
   }
 #endif
   vec3 video = seen.rgb;  // linear
-  // A virtual obstacle in the way (alpha 0, solid.frag) is already lit: the
-  // floor's shadow and caustics behind it do not apply to it.
-  float obstacle = 1.0 - seen.a;
   float lit = 1.0;
   vec2 floor_uv = f.xy / u_tank.xy + 0.5;
 #ifdef SHADOWS
@@ -222,12 +226,16 @@ void main() {
   // sky and the light through the surface, the surroundings through the
   // walls, the water's return and 1/n^2; a ray out through a wall sees the
   // board (the video) or the sky beyond the glass.
-  vec3 floor_light = u_floor_sky + u_floor_sun * mix(lit, 1.0, obstacle);
+  vec3 floor_light = u_floor_sky + u_floor_sun * mix(lit, 1.0, shaft);
   vec4 back = textureLod(u_floor_return, floor_uv, 0.0);
   vec3 returned = back.a * u_return_tint;
   floor_light += back.rgb;
-  vec3 under = video * floor_light * u_inv_n2 /
-               (1.0 - returned * min(video, vec3(0.95)));
+  // An obstacle's pixel holds its radiance in the water (solid.frag): only
+  // the way out, 1/n^2, applies to it.
+  vec3 under = mix(video * floor_light /
+                       (1.0 - returned * min(video, vec3(0.95))),
+                   video, obstacle) *
+               u_inv_n2;
   vec3 beyond_light =
       out_dir.z < -1e-5 || under_glass ? video : vec3(u_ambient);
   vec3 below = floor_seen ? under : beyond_light * u_glass_t;

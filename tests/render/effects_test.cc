@@ -545,6 +545,59 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
   }
 }
 
+// A virtual obstacle's face sees the sky above and the ground below by its
+// view factors: a box on the board, out of the light's reach on its
+// camera side, over a uniform grey board, reads albedo x (a (1 + n.z) / 2
+// + G (1 - n.z) / 2) on its vertical face (n.z = 0; G the board's radiance
+// from the video) and albedo on its lit top; and its face reads brighter
+// over a brighter board.
+TEST(EffectsTest, ObstacleFacesSeeTheSkyAndTheBoard) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  const RendererOptions o;
+  auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH), o,
+                               nullptr);
+  ASSERT_NE(r, nullptr);
+  auto face = [&](std::uint8_t grey, cv::Vec3b* top) {
+    TestScene s = MakeScene(kW, kH, View::kFront, false);
+    std::fill(s.video.begin(), s.video.end(), grey);
+    s.inputs.effects.shadows = s.inputs.effects.caustics = false;
+    s.inputs.light_in_tank = {0.0, 1.0, 1.0};  // from behind: -y face unlit
+    Obstacle box;
+    box.shape = Obstacle::Shape::kBox;
+    box.size = {0.03f, 0.02f, 0.02f};
+    box.tank_from_obstacle[3] = glm::dvec4(0.0, -0.085, 0.0, 1.0);
+    s.inputs.obstacles = {box};
+    const cv::Mat out = RenderScene(r.get(), s.inputs);
+    auto pixel = [&](const glm::dvec3& p) {
+      const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(p, 1.0);
+      return out.at<cv::Vec3b>(
+          static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy)),
+          static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx)));
+    };
+    *top = pixel({0.0, -0.085, 0.02});
+    return pixel({0.0, -0.095, 0.01});  // the -y face's centre
+  };
+  cv::Vec3b top_dark, top_bright;
+  const cv::Vec3b dark = face(60, &top_dark);
+  const cv::Vec3b bright = face(200, &top_bright);
+  const double a = o.optics.ambient_share;
+  for (int c = 0; c < 3; ++c) {  // B, G, R
+    const double albedo = o.obstacle_albedo[2 - c];
+    for (const auto& [px, grey] : {std::pair{dark, 60}, {bright, 200}}) {
+      const double g = SrgbToLinear(grey / 255.0);
+      const double want =
+          255.0 * LinearToSrgb(HighlightShoulder(albedo * (0.5 * a + 0.5 * g),
+                                                 o.optics.highlight_knee));
+      EXPECT_NEAR(px[c], want, 1.5) << "band " << c << " grey " << grey;
+    }
+    const double lit = 255.0 * LinearToSrgb(HighlightShoulder(
+                                   albedo, o.optics.highlight_knee));
+    EXPECT_NEAR(top_dark[c], lit, 1.5) << c;
+    EXPECT_NEAR(top_bright[c], lit, 1.5) << c;
+    EXPECT_GT(bright[c], dark[c] + 20) << c;
+  }
+}
+
 // A glass wall facing the camera is a vertical mirror: its faces reflect
 // the board in front of it (2 x Fresnel at the ray's incidence), which the
 // video shows. A band of the board painted red, then green, changes the
@@ -552,9 +605,8 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
 // of the mirror's reach leaves it unchanged.
 TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
-  RendererOptions o;
-  auto r = Renderer::TryCreate(
-      ctx.get(), MakeScene(kW, kH, View::kFront, false).k, o, nullptr);
+  auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH),
+                               RendererOptions{}, nullptr);
   ASSERT_NE(r, nullptr);
   // The front glass's point over the water, seen from the front view.
   TestScene base = MakeScene(kW, kH, View::kFront, false);

@@ -19,7 +19,10 @@ void main() {
   vec3 n = normalize(v_n);
   vec2 half_size = 0.5 * u_tank.xy;
   bool in_tank = all(lessThan(abs(v_p.xy), half_size));
-  bool under = in_tank && v_p.z < SurfaceZ(clamp(v_p.xy, -half_size, half_size));
+  // Under the rest level: the waves (a millimetre or so) move the
+  // waterline on an obstacle by less than the water's own silhouette
+  // there, which decides what is seen through the water.
+  bool under = in_tank && v_p.z < u_tank.w;
   // Diffuse light on a face of normal n in units where the dry, unshadowed
   // board reads its albedo (optics.h). A plane sees the upper hemisphere's
   // mean radiance with weight (1 + n.z) / 2 and the lower's with (1 - n.z)
@@ -42,13 +45,17 @@ void main() {
   vec3 lit_at = under ? v_p + t * ((u_tank.w - v_p.z) / max(t.z, 1e-3)) : v_p;
   diffuse *= Shadow(lit_at + n * 5e-4);
 #endif
-  vec3 ground = in_tank ? u_floor_wet * u_inv_n2 : u_ground;
-  vec3 air = u_ambient * up + ground * down + (1.0 - u_ambient) * diffuse;
-  vec3 water = (u_floor_sky + u_internal_reflectance * u_floor_wet) * up +
-               u_floor_wet * down + u_floor_sun * diffuse;
+  // The three terms' radiances, selected (llvmpipe would run both sides of
+  // a branch).
+  vec3 above = under ? u_floor_sky + u_internal_reflectance * u_floor_wet
+                     : vec3(u_ambient);
+  vec3 below = under ? u_floor_wet
+                     : (in_tank ? u_floor_wet * u_inv_n2 : u_ground);
+  vec3 direct = under ? u_floor_sun : vec3(1.0 - u_ambient);
+  vec3 light = above * up + below * down + direct * diffuse;
   // Alpha 0 marks the obstacles' pixels for the water, which must not
   // light them as the floor behind them (video and water write 1); under
   // the water this is the radiance in the water, which the water pass sees
   // through the surface (1/n^2, Fresnel, absorption).
-  o_color = vec4(EncodeOutput(u_albedo * (under ? water : air)), 0.0);
+  o_color = vec4(EncodeOutput(u_albedo * light), 0.0);
 }

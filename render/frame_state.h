@@ -59,14 +59,17 @@ struct ShadowTransform {
   glm::vec2 texel{0.0f};  // PCF / Gaussian tap offset, texture units
 };
 
+// A board's linear radiance where no frame shows it: white paper.
+constexpr float kPaperRadiance = 0.85f;
+
 // What the virtual obstacles' diffuse surfaces see around them, from the
 // video (display units, linear RGB; RendererOptions' video transfer): the
 // board around the tank, a ring 1-4 cm outside the inner walls, and the
 // tank's floor, its inner 80%, both dry. Each is the mean over the samples
 // the frame shows; `fallback` where it shows none.
 struct GroundRadiance {
-  glm::vec3 board{0.85f};
-  glm::vec3 floor{0.85f};
+  glm::vec3 board{kPaperRadiance};
+  glm::vec3 floor{kPaperRadiance};
 };
 
 // Per-frame values, computed once by the renderer.

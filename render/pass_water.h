@@ -86,8 +86,6 @@ class WaterPass {
   // tank) and its surroundings' light for the board's radiance beyond each
   // wall as this frame's video shows it (re-uploaded when that changes).
   void UpdateFloorReturn(const FrameState& f);
-  // The board's radiance (linear) when no frame shows it: white paper.
-  static constexpr float kPaperRadiance = 0.85f;
   // Changes of the board's radiance below this leave the map as it is.
   static constexpr float kBoardChange = 0.002f;
 

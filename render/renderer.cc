@@ -337,8 +337,8 @@ bool Renderer::Render(const SceneInputs& scene) {
       scene, m.k, m.options.optics, m.options.video_transfer);
   f.shading = m.Shading(scene);
   if (!scene.obstacles.empty() && scene.video.bgr != nullptr) {
-    m.ground = internal::MeasureGroundRadiance(
-        scene, m.k, m.options.video_transfer == Transfer::kSrgb, m.ground);
+    m.ground =
+        internal::MeasureGroundRadiance(scene, m.k, f.srgb_output, m.ground);
   }
   f.ground = m.ground;
   const glm::ivec4 window = m.Window(scene.video, &f);

@@ -72,9 +72,35 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-overlap", args->no_overlap,
                 "Track each frame before its render instead of beside the "
                 "last frame's (lower latency, lower frame rate)");
+  sub->add_option(
+         "--water-columns", args->water_columns,
+         "Shade the water on a grid of at most this many columns and "
+         "upsample it inside the water (its edges stay sharp); 0: at the "
+         "output's own pixels. The default 640 keeps 640x480 as it is and "
+         "the water of larger frames at its cost")
+      ->capture_default_str()
+      ->check(WaterColumnsValidator());
   sub->add_flag("--full-frame", args->full_frame,
                 "Draw every pixel through GL (by default only the tank's "
                 "part of the frame is; the rest is the video as it came)");
+}
+
+CLI::Validator WaterColumnsValidator() {
+  return CLI::Validator(
+      [](std::string& value) -> std::string {
+        size_t used = 0;
+        long n = -1;
+        try {
+          n = std::stol(value, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used == value.size() && (n == 0 || (n >= 64 && n <= 16384)))
+          return "";
+        return "'" + value +
+               "': expected 0 (the output's pixels) or 64 to 16384 columns";
+      },
+      "");
 }
 
 bool ParseLightDirection(const std::string& text, Eigen::Vector3d* light,
@@ -141,6 +167,7 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.occluders = !args->no_occluders;
   o.overlap_tracking = !args->no_overlap;
   o.renderer.full_frame_output = args->full_frame;
+  o.renderer.water_shading_columns = args->water_columns;
   if (!render::ParseShadowFilter(args->shadows, &o.renderer.shadow_filter)) {
     if (error)
       *error = "--shadows '" + args->shadows + "': use pcf, gauss or hard";

@@ -31,6 +31,7 @@ struct PipelineArgs {
   bool no_occluders = false;
   bool no_overlap = false;  // PipelineOptions::overlap_tracking off
   bool full_frame = false;  // RendererOptions::full_frame_output
+  int water_columns = 640;  // RendererOptions::water_shading_columns
   // --sun LAT,LON,DATETIME: the light from the sun's position (app_sun.h);
   // --north: the bearing of the board's +y, degrees clockwise from north.
   std::string sun;
@@ -41,6 +42,9 @@ struct PipelineArgs {
   double shadow_sigma_texels = std::nan("");  // --shadow-sigma; NaN: default
   SmoothingArgs smoothing;  // --smoothing and the filters' cut-offs
 };
+
+// --water-columns: 0 or 64..16384 (RendererOptions::water_shading_columns).
+CLI::Validator WaterColumnsValidator();
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.
 void AddPipelineOptions(CLI::App* sub, PipelineArgs* args);

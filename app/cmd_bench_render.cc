@@ -16,6 +16,7 @@
 
 #include "app/app_bench.h"
 #include "app/app_common.h"
+#include "app/app_options.h"
 #include "app/app_pipeline.h"
 #include "app/app_render_scenes.h"
 #include "app/app_wxh.h"
@@ -45,6 +46,7 @@ struct RenderBenchArgs {
   int light_paths_per_texel = 64;
   int sky_rays = 4;
   int timing_frames = 15;
+  int water_columns = 640;  // RendererOptions::water_shading_columns
 };
 
 // The effects whose contribution is measured, as `Effects` members.
@@ -305,6 +307,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   ro.optics = render::WaterOptics::ForLook(look);
   ro.shadow_filter = shadow_filter;
   ro.reflection_map = reflection_map;
+  ro.water_shading_columns = args.water_columns;
   const render::WaterOptics& optics = ro.optics;
 
   reference::ReferenceOptions refo;
@@ -682,6 +685,11 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "pen, the obstacles and, in the room scene, the room's "
                   "walls)")
       ->capture_default_str();
+  sub->add_option("--water-columns", args->water_columns,
+                  "The real-time renderer shades the water on at most this "
+                  "many columns (0: the output's pixels; at least 64)")
+      ->capture_default_str()
+      ->check(WaterColumnsValidator());
   sub->add_option("--spp", args->samples_per_pixel,
                   "Reference samples per pixel")
       ->capture_default_str()

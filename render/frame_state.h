@@ -24,6 +24,7 @@ enum TextureUnit : int {
   kUnitScene = 3,
   kUnitReflection = 4,
   kUnitVideo = 5,
+  kUnitCoarseWater = 6,  // the water on its coarse grid (pass_water.h)
   kUnitReceiver = 7,
   kUnitOverlay = 8,
   kUnitFloorReturn = 9,

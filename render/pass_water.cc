@@ -158,6 +158,22 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   }
   depth_common_.Resolve(depth_);
   empty_vao_.Create();
+  if (!BuildProgram(&upsample_, "water_upsample", "fullscreen.vert",
+                    "water_upsample.frag", "", error) ||
+      !BuildProgram(&hull_, "water_coarse_mark", "ndc.vert", "depth.frag", "",
+                    error)) {
+    return false;
+  }
+  glUseProgram(upsample_.id());
+  glUniform1i(upsample_.Uniform("u_coarse_water"), kUnitCoarseWater);
+  glUseProgram(0);
+  hull_vao_.Create();
+  hull_vbo_.Create();
+  glBindVertexArray(hull_vao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, hull_vbo_.id());
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, sizeof(glm::vec2), nullptr);
+  glBindVertexArray(0);
 
   const int g = options.surface_grid;
   std::vector<glm::vec2> grid;
@@ -200,6 +216,24 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   return true;
 }
 
+bool WaterPass::AllocateOutput(int width, int height) {
+  out_width_ = width;
+  out_height_ = height;
+  grid_ = CoarseGridFor(width, height, options_.shading_columns);
+  if (!grid_.active()) return true;
+  glActiveTexture(GL_TEXTURE0 + kUnitCoarseWater);
+  AllocTexture(&coarse_color_, GL_RGBA8, grid_.width, grid_.height, GL_RGBA,
+               GL_UNSIGNED_BYTE, GL_LINEAR, GL_CLAMP_TO_EDGE);
+  coarse_stencil_.Create();
+  glBindRenderbuffer(GL_RENDERBUFFER, coarse_stencil_.id());
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, grid_.width,
+                        grid_.height);
+  if (!AttachColor(&coarse_fbo_, coarse_color_)) return false;
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
+                            GL_RENDERBUFFER, coarse_stencil_.id());
+  return glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+}
+
 void WaterPass::Prepare(const Shading& s, const FrameState& f,
                         const RealObjectsState& real) const {
   s.common.Set(s.program, f, f.clip_from_tank);
@@ -222,8 +256,38 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform1f(s.plate_gain, real.plate_gain);
 }
 
+void WaterPass::MarkCoarseWater(const FrameState& f) {
+  const TankGeometry& t = f.scene->tank;
+  // A texel holds an output pixel's interpolation when it is one of the four
+  // around it: within one texel of the water in x and y. Half a texel more
+  // keeps the texel centres on the polygon's edges inside.
+  std::vector<glm::dvec2> hull =
+      GrownBoxHull(f.clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
+                   t.water_level + 0.01, grid_.width, grid_.height, 1.5);
+  std::vector<glm::vec2> fan;
+  if (hull.empty()) {  // no bound: the whole grid
+    fan = {{-1.f, -1.f}, {1.f, -1.f}, {1.f, 1.f}, {-1.f, 1.f}};
+  } else {
+    for (const glm::dvec2& w : hull) {
+      fan.emplace_back(float(2.0 * w.x / grid_.width - 1.0),
+                       float(2.0 * w.y / grid_.height - 1.0));
+    }
+  }
+  glBindVertexArray(hull_vao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, hull_vbo_.id());
+  glBufferData(GL_ARRAY_BUFFER, fan.size() * sizeof(glm::vec2), fan.data(),
+               GL_STREAM_DRAW);
+  glUseProgram(hull_.id());
+  GlStateGuard mask;
+  mask.ColorMask(false);
+  glStencilFunc(GL_ALWAYS, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  glDrawArrays(GL_TRIANGLE_FAN, 0, static_cast<GLsizei>(fan.size()));
+  glBindVertexArray(0);
+}
+
 void WaterPass::Draw(const FrameState& f, bool have_video,
-                     const RealObjectsState& real) {
+                     const RealObjectsState& real, GLuint target) {
   const Effects& fx = f.scene->effects;
   const SceneInputs& scene = *f.scene;
   // The plate matters only where this frame's mask hides the board.
@@ -264,11 +328,11 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
       BoxRect(f.clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
               t.water_level + 0.01, 1, f.k->width, f.k->height);
   state.Enable(GL_SCISSOR_TEST);
-  glBindVertexArray(empty_vao_.id());
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
   if (fx.flat_water) {
+    glBindVertexArray(empty_vao_.id());
     Prepare(flat_, f, real);
     glStencilFunc(GL_EQUAL, 1, 0xff);
-    glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
     state.StencilMask(0);
     glScissor(rect.x, rect.y, rect.z, rect.w);
     glDrawArrays(GL_TRIANGLES, 0, 3);
@@ -276,13 +340,8 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     return;
   }
   // The pen, the plate and the mirror, each only inside its region
-  // (water_regions.h): the rectangle is cut along the regions' edges into
-  // cells, and each run of cells along a row that the same regions hold is
-  // drawn once, scissored, by the program with just those effects. The
-  // cells do not overlap: llvmpipe's stencil test of a block it then
-  // rejects costs about a tenth of shading it.
+  // (water_regions.h).
   glm::ivec4 region[3] = {rect, rect, rect};
-  const int bit[3] = {kRealPen, kRealPlate, kMirror};
   const bool use[3] = {with_pen, with_plate, with_mirror};
   if (options_.regions) {
     if (with_pen) {
@@ -293,6 +352,52 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     if (with_plate) region[1] = PlateLookupRect(f, real.mask_window);
     if (with_mirror) region[2] = MirrorLookupRect(f, MirroredObjectsRect(f));
   }
+  if (!grid_.active() || rect.z <= 0 || rect.w <= 0) {
+    glStencilFunc(GL_EQUAL, 1, 0xff);
+    state.StencilMask(0);
+    ShadeCells(f, real, base, rect, region, use);
+    return;
+  }
+  // (c) On the coarse grid: mark the tank's grown outline, shade the marked
+  // texels (the same cells, scaled), then (d) bring them to the output's
+  // marked pixels. The grid is cleared only around the water: the upsampling
+  // reads no texel outside the outline.
+  const glm::ivec4 coarse_rect = grid_.RectOut(rect, 2);
+  glm::ivec4 coarse_region[3];
+  for (int i = 0; i < 3; ++i) coarse_region[i] = grid_.RectOut(region[i], 1);
+  glBindFramebuffer(GL_FRAMEBUFFER, coarse_fbo_.id());
+  glViewport(0, 0, grid_.width, grid_.height);
+  glScissor(coarse_rect.x, coarse_rect.y, coarse_rect.z, coarse_rect.w);
+  glClearColor(0.f, 0.f, 0.f, 0.f);
+  glClearStencil(0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_STENCIL_BUFFER_BIT);
+  MarkCoarseWater(f);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
+  state.StencilMask(0);
+  ShadeCells(f, real, base, coarse_rect, coarse_region, use);
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
+  glViewport(0, 0, out_width_, out_height_);
+  glActiveTexture(GL_TEXTURE0 + kUnitCoarseWater);
+  glBindTexture(GL_TEXTURE_2D, coarse_color_.id());
+  glUseProgram(upsample_.id());
+  glScissor(rect.x, rect.y, rect.z, rect.w);
+  glBindVertexArray(empty_vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glBindVertexArray(0);
+}
+
+void WaterPass::ShadeCells(const FrameState& f, const RealObjectsState& real,
+                           int base, const glm::ivec4& rect,
+                           const glm::ivec4 region_in[3],
+                           const bool use[3]) const {
+  // The rectangle is cut along the regions' edges into cells, and each run
+  // of cells along a row that the same regions hold is drawn once,
+  // scissored, by the program with just those effects. The cells do not
+  // overlap: llvmpipe's stencil test of a block it then rejects costs about
+  // a tenth of shading it.
+  const int bit[3] = {kRealPen, kRealPlate, kMirror};
+  glm::ivec4 region[3] = {region_in[0], region_in[1], region_in[2]};
   std::vector<int> xs = {rect.x, rect.x + rect.z};
   std::vector<int> ys = {rect.y, rect.y + rect.w};
   for (int i = 0; i < 3; ++i) {
@@ -315,9 +420,6 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   xs.erase(std::unique(xs.begin(), xs.end()), xs.end());
   std::sort(ys.begin(), ys.end());
   ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
-  glStencilFunc(GL_EQUAL, 1, 0xff);
-  glStencilOp(GL_KEEP, GL_KEEP, GL_KEEP);
-  state.StencilMask(0);
   auto effects_at = [&](int x, int y) {
     int e = 0;
     for (int i = 0; i < 3; ++i) {
@@ -327,6 +429,7 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     }
     return e;
   };
+  glBindVertexArray(empty_vao_.id());
   for (size_t b = 0; b + 1 < ys.size(); ++b) {
     const int y0 = ys[b], y1 = ys[b + 1];
     size_t a = 0;

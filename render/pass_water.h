@@ -1,7 +1,10 @@
 // Water pass (internal to render/): the surface mesh lays its depth and
 // marks its visible pixels in the stencil, then one full-screen shading per
 // marked pixel (refraction, shadow, caustics, reflection, specular) inside
-// the water's window rectangle.
+// the water's window rectangle. With a coarse grid (Options::shading_columns,
+// coarse_grid.h) the shading runs on the grid's texels, marked by the tank's
+// grown outline, and one bilinear lookup per marked output pixel brings it
+// back (water_upsample.frag).
 //
 // llvmpipe executes both sides of every branch, so each combination of
 // effects is its own program; all of them are compiled at creation.
@@ -16,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "render/coarse_grid.h"
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
 #include "render/optics.h"
@@ -37,13 +41,21 @@ class WaterPass {
     // regions (water_regions.h) and the rest of the water without them; the
     // output is the same. false: every water pixel takes every effect.
     bool regions = true;
+    // Shade on a grid of at most this many rows (coarse_grid.h) and
+    // upsample into the water's output pixels; 0: at the output's pixels.
+    int shading_columns = 0;
   };
   bool Create(const Options& options, std::string* error);
+  // (Re)allocates the coarse grid's target for an output of this size.
+  bool AllocateOutput(int width, int height);
 
-  // Draws into the bound output (depth laid by earlier passes), with the
+  // Draws into `target` (bound, depth laid by earlier passes), with the
   // frame's textures bound to their units. `have_video`: the reflection map
   // holds something; `real`: the real pen and the plate (RealObjectsPass).
-  void Draw(const FrameState& f, bool have_video, const RealObjectsState& real);
+  void Draw(const FrameState& f, bool have_video, const RealObjectsState& real,
+            GLuint target);
+  // The grid the water was shaded on (inactive: the output's pixels).
+  const CoarseGrid& grid() const { return grid_; }
   // The return's ratio of the bands to green (see UpdateFloorReturn).
   const glm::vec3& return_tint() const { return return_tint_; }
 
@@ -81,6 +93,17 @@ class WaterPass {
   // Binds `s` and sets the frame's uniforms.
   void Prepare(const Shading& s, const FrameState& f,
                const RealObjectsState& real) const;
+  // Shades the stencil-marked pixels of the bound target inside `rect`
+  // (its pixels), cut into cells by the regions (`region[i]` used where
+  // `use[i]`: the real pen, the plate, the mirror) each shaded by the
+  // variant `base` plus the effects of the regions holding it.
+  void ShadeCells(const FrameState& f, const RealObjectsState& real, int base,
+                  const glm::ivec4& rect, const glm::ivec4 region[3],
+                  const bool use[3]) const;
+  // The coarse grid's stencil: the tank's box at the rest level +- 1 cm on
+  // screen, grown so that every coarse texel an output water pixel
+  // interpolates from is shaded.
+  void MarkCoarseWater(const FrameState& f);
 
   // The floor-return map for the frame's tank (traced on the CPU, once per
   // tank) and its surroundings' light for the board's radiance beyond each
@@ -104,6 +127,18 @@ class WaterPass {
   VertexArray grid_vao_, empty_vao_;
   Buffer grid_vbo_, grid_ibo_;
   int grid_index_count_ = 0;
+
+  // The coarse grid: colour (RGBA8: the shaded colour times coverage a,
+  // texels not shaded are 0) and stencil; the upsampling and the stencil's
+  // polygon (a triangle fan, coarse NDC).
+  int out_width_ = 0, out_height_ = 0;
+  CoarseGrid grid_;
+  Texture coarse_color_;
+  Renderbuffer coarse_stencil_;
+  Framebuffer coarse_fbo_;
+  Program upsample_, hull_;
+  VertexArray hull_vao_;
+  Buffer hull_vbo_;
 };
 
 }  // namespace ripple::render::internal

@@ -93,6 +93,8 @@ bool RendererOptions::IsValid(std::string* error) const {
   if (caustics_map_size < 8 || caustics_map_size > 4096)
     return fail("caustics_map_size must be in [8, 4096]");
   if (caustics_threads < 1) return fail("caustics_threads must be >= 1");
+  if (water_shading_columns != 0 && water_shading_columns < 64)
+    return fail("water_shading_columns must be 0 or >= 64");
   if (!(reflection_fade_m > 0)) return fail("reflection_fade_m must be > 0");
   if (shadow_move_threshold_m < 0 || shadow_turn_threshold_rad < 0)
     return fail("shadow thresholds must be >= 0");
@@ -182,9 +184,13 @@ bool Renderer::Impl::Init(std::string* error) {
       o.optics.ior};
   const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
   const bool sky = o.daylight.has_value();
-  const internal::WaterPass::Options water_options{
-      o.surface_grid, o.optics, o.reflection_distance_m,
-      cube,           sky,      o.water_regions};
+  const internal::WaterPass::Options water_options{o.surface_grid,
+                                                   o.optics,
+                                                   o.reflection_distance_m,
+                                                   cube,
+                                                   sky,
+                                                   o.water_regions,
+                                                   o.water_shading_columns};
   const internal::WallsPass::Options walls_options{o.optics, cube, sky};
   internal::EnvMapPass::Options envmap_options;
   envmap_options.face_size = o.envmap.face_size;
@@ -255,7 +261,8 @@ bool Renderer::Impl::AllocateOutput(std::string* error) {
   const bool ok = obstacles.AllocateOutput(k.width, k.height) &&
                   video.AllocateOutput(k.width, k.height) &&
                   real.AllocateOutput(k.width, k.height) &&
-                  mirror.AllocateOutput(k.width, k.height);
+                  mirror.AllocateOutput(k.width, k.height) &&
+                  water.AllocateOutput(k.width, k.height);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (!ok) *error = "video framebuffers incomplete";
   return ok;
@@ -391,7 +398,7 @@ bool Renderer::Render(const SceneInputs& scene) {
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
-  m.water.Draw(f, m.video.have_video(), m.real_state);
+  m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (fx.walls) {
     m.walls.Draw(f, m.walls_mesh, m.water.return_tint(),
                  fx.reflection && m.video.have_video());

@@ -168,6 +168,16 @@ struct RendererOptions {
   // without them: the same image for less work. false: every water pixel
   // runs every effect (the reference for that claim).
   bool water_regions = true;
+  // The water's shading runs on a grid of at most this many columns (the
+  // output's aspect) and is upsampled into the water's own output pixels
+  // (render/coarse_grid.h): its edges against walls, obstacles and the
+  // video stay sharp, its interior is interpolated. On llvmpipe the water's
+  // shading is about half of a frame's work and grows with the water's
+  // pixels, which for a webcam's modes of one horizontal field of view grow
+  // with the width squared: 640 columns keep 640x480 at its own pixels and
+  // the water of 1280x720 or 1920x1080 at 640x480's cost (docs/render.md,
+  // "Webcam resolutions"). 0: always the output's pixels.
+  int water_shading_columns = 640;
   // Outdoors (--sun): the daylight sky (render/sun.h) is what reflected rays
   // climbing above the surroundings the video shows see: the reflection
   // takes the sky's radiance (DaylightSkyRadiance) in place of the video's

@@ -301,12 +301,16 @@ BENCHMARK(BM_WaterRegions)
     ->UseRealTime();
 
 // A webcam's modes: the whole frame as the pipeline runs it (render, wait,
-// read back into a BGR image) at each size, with the same field of view.
-// Effects as in kFullChanging (water and pen change every frame).
+// read back into a BGR image) at each size, with the same field of view,
+// the water shaded on at most `cols` columns (RendererOptions::
+// water_shading_columns; 0: at the output's pixels). Effects as in
+// kFullChanging (water and pen change every frame).
 void BM_FrameAtSize(benchmark::State& state) {
   const int w = static_cast<int>(state.range(0));
   const int h = static_cast<int>(state.range(1));
-  auto f = Make(state, Backend::kEgl, false, {}, w, h);
+  RendererOptions options;
+  options.water_shading_columns = static_cast<int>(state.range(2));
+  auto f = Make(state, Backend::kEgl, false, options, w, h);
   if (!f) return;
   SceneInputs& in = f->scene.inputs;
   std::vector<std::uint8_t> out(static_cast<size_t>(w) * h * 3);
@@ -314,6 +318,7 @@ void BM_FrameAtSize(benchmark::State& state) {
   f->renderer->ReadBgr(out.data());
   double frames = 0, upload_ms = 0, render_cpu = 0, read_cpu = 0;
   const double cpu0 = ProcessCpuMs();
+  const CallgrindRegion counted;
   for (auto _ : state) {
     in.water.change_counter++;
     in.tank_from_pen[3].x += (int(frames) % 2 ? -0.002 : 0.002);
@@ -334,10 +339,12 @@ void BM_FrameAtSize(benchmark::State& state) {
   state.counters["upload_ms"] = upload_ms / frames;
 }
 BENCHMARK(BM_FrameAtSize)
-    ->ArgNames({"w", "h"})
-    ->Args({640, 480})
-    ->Args({1280, 720})
-    ->Args({1920, 1080})
+    ->ArgNames({"w", "h", "cols"})
+    ->Args({640, 480, 640})
+    ->Args({1280, 720, 640})
+    ->Args({1280, 720, 0})
+    ->Args({1920, 1080, 640})
+    ->Args({1920, 1080, 0})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

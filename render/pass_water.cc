@@ -258,12 +258,18 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
 
 void WaterPass::MarkCoarseWater(const FrameState& f) {
   const TankGeometry& t = f.scene->tank;
+  // The surface lies within this frame's height range (the height
+  // texture's code, which includes 0), plus a millimetre for its filtering.
   // A texel holds an output pixel's interpolation when it is one of the four
   // around it: within one texel of the water in x and y. Half a texel more
   // keeps the texel centres on the polygon's edges inside.
+  const HeightFieldInfo& h = f.height;
+  const double low = t.water_level + h.decode_offset.x - 0.001;
+  const double high =
+      t.water_level + h.decode_offset.x + h.decode_scale.x + 0.001;
   std::vector<glm::dvec2> hull =
-      GrownBoxHull(f.clip_from_tank, t.size_x, t.size_y, t.water_level - 0.01,
-                   t.water_level + 0.01, grid_.width, grid_.height, 1.5);
+      GrownBoxHull(f.clip_from_tank, t.size_x, t.size_y, low, high, grid_.width,
+                   grid_.height, 1.5);
   std::vector<glm::vec2> fan;
   if (hull.empty()) {  // no bound: the whole grid
     fan = {{-1.f, -1.f}, {1.f, -1.f}, {1.f, 1.f}, {-1.f, 1.f}};

@@ -173,10 +173,11 @@ struct RendererOptions {
   // (render/coarse_grid.h): its edges against walls, obstacles and the
   // video stay sharp, its interior is interpolated. On llvmpipe the water's
   // shading is about half of a frame's work and grows with the water's
-  // pixels, which for a webcam's modes of one horizontal field of view grow
-  // with the width squared: 640 columns keep 640x480 at its own pixels and
-  // the water of 1280x720 or 1920x1080 at 640x480's cost (docs/render.md,
-  // "Webcam resolutions"). 0: always the output's pixels.
+  // pixels (three to nine times 640x480's at a webcam's 1280x720 and
+  // 1920x1080): 640 columns keep 640x480 and smaller at their own pixels
+  // and the water of larger outputs near 640x480's cost. Under 640 columns
+  // a grid does not pay (docs/render.md, "Webcam resolutions: the water on
+  // a coarse grid"). 0: always the output's pixels.
   int water_shading_columns = 640;
   // Outdoors (--sun): the daylight sky (render/sun.h) is what reflected rays
   // climbing above the surroundings the video shows see: the reflection

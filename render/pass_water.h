@@ -41,7 +41,7 @@ class WaterPass {
     // regions (water_regions.h) and the rest of the water without them; the
     // output is the same. false: every water pixel takes every effect.
     bool regions = true;
-    // Shade on a grid of at most this many rows (coarse_grid.h) and
+    // Shade on a grid of at most this many columns (coarse_grid.h) and
     // upsample into the water's output pixels; 0: at the output's pixels.
     int shading_columns = 0;
   };
@@ -54,8 +54,6 @@ class WaterPass {
   // holds something; `real`: the real pen and the plate (RealObjectsPass).
   void Draw(const FrameState& f, bool have_video, const RealObjectsState& real,
             GLuint target);
-  // The grid the water was shaded on (inactive: the output's pixels).
-  const CoarseGrid& grid() const { return grid_; }
   // The return's ratio of the bands to green (see UpdateFloorReturn).
   const glm::vec3& return_tint() const { return return_tint_; }
 
@@ -100,9 +98,9 @@ class WaterPass {
   void ShadeCells(const FrameState& f, const RealObjectsState& real, int base,
                   const glm::ivec4& rect, const glm::ivec4 region[3],
                   const bool use[3]) const;
-  // The coarse grid's stencil: the tank's box at the rest level +- 1 cm on
-  // screen, grown so that every coarse texel an output water pixel
-  // interpolates from is shaded.
+  // The coarse grid's stencil: the tank's box over this frame's surface
+  // heights on screen, grown so that every coarse texel an output water
+  // pixel interpolates from is shaded.
   void MarkCoarseWater(const FrameState& f);
 
   // The floor-return map for the frame's tank (traced on the CPU, once per

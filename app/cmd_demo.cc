@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "app/app_common.h"
 #include "app/app_floor.h"
@@ -128,11 +129,16 @@ int RunDemo(DemoArgs args) {
     // The idle tail starts from calm water, so it shows the at-rest cost.
     if (index == args.frames) pipeline->water().Reset();
   };
+  const glm::ivec2 grid = pipeline->renderer().water_grid();
+  const std::string water_grid = grid.x > 0 ? ", water shaded on " +
+                                                  std::to_string(grid.x) + "x" +
+                                                  std::to_string(grid.y)
+                                            : "";
   std::printf(
-      "demo: %d active + %d idle frames of %dx%d, %s floor, on %s (%s)\n",
+      "demo: %d active + %d idle frames of %dx%d%s, %s floor, on %s (%s)\n",
       args.frames, args.idle_frames, camera->width, camera->height,
-      synth::ToString(floor->kind()), render::BackendName(*backend),
-      pipeline->context().Description().c_str());
+      water_grid.c_str(), synth::ToString(floor->kind()),
+      render::BackendName(*backend), pipeline->context().Description().c_str());
   FrameLoopSummary summary;
   RunFrameLoop(hooks, &source, nullptr, pipeline.get(),
                {&tables, &video, &poses, &snapshot, &progress}, &summary);

@@ -54,6 +54,8 @@ class WaterPass {
   // holds something; `real`: the real pen and the plate (RealObjectsPass).
   void Draw(const FrameState& f, bool have_video, const RealObjectsState& real,
             GLuint target);
+  // The grid the water is shaded on (inactive: the output's pixels).
+  const CoarseGrid& grid() const { return grid_; }
   // The return's ratio of the bands to green (see UpdateFloorReturn).
   const glm::vec3& return_tint() const { return return_tint_; }
 

@@ -330,6 +330,10 @@ void Renderer::SetIntrinsics(const Intrinsics& intrinsics) {
 const Intrinsics& Renderer::intrinsics() const { return impl_->k; }
 const RendererOptions& Renderer::options() const { return impl_->options; }
 const PassTimings& Renderer::timings() const { return impl_->timings; }
+glm::ivec2 Renderer::water_grid() const {
+  const internal::CoarseGrid& g = impl_->water.grid();
+  return {g.width, g.height};
+}
 
 glm::dmat4 Renderer::ClipFromTank(const glm::dmat4& cam_from_tank) const {
   return ClipFromCam(impl_->k) * cam_from_tank;

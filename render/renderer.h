@@ -287,6 +287,9 @@ class Renderer {
   void Finish();
 
   const PassTimings& timings() const;
+  // The grid the water is shaded on (RendererOptions::
+  // water_shading_columns), columns x rows; (0, 0): the output's pixels.
+  glm::ivec2 water_grid() const;
 
   // The matrix the main pass uses: tank frame -> GL clip coordinates.
   glm::dmat4 ClipFromTank(const glm::dmat4& cam_from_tank) const;

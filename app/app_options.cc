@@ -72,12 +72,11 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-overlap", args->no_overlap,
                 "Track each frame before its render instead of beside the "
                 "last frame's (lower latency, lower frame rate)");
-  sub->add_option(
-         "--water-columns", args->water_columns,
-         "Shade the water on a grid of at most this many columns and "
-         "upsample it inside the water (its edges stay sharp); 0: at the "
-         "output's own pixels. The default 640 keeps 640x480 as it is and "
-         "the water of larger frames at its cost")
+  sub->add_option("--water-columns", args->water_columns,
+                  "Shade the water on a grid of this many columns and "
+                  "upsample it inside the water (its edges stay sharp): auto "
+                  "(80% of the frame's columns, at most 640), full (every "
+                  "pixel) or N >= 64")
       ->capture_default_str()
       ->check(WaterColumnsValidator());
   sub->add_flag("--full-frame", args->full_frame,
@@ -85,20 +84,33 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
                 "part of the frame is; the rest is the video as it came)");
 }
 
+bool ParseWaterColumns(const std::string& text, int* columns) {
+  if (text == "auto") {
+    *columns = render::kWaterColumnsAuto;
+    return true;
+  }
+  if (text == "full") {
+    *columns = 0;
+    return true;
+  }
+  size_t used = 0;
+  long n = -1;
+  try {
+    n = std::stol(text, &used);
+  } catch (const std::exception&) {
+    return false;
+  }
+  if (used != text.size() || !(n == 0 || (n >= 64 && n <= 16384))) return false;
+  *columns = static_cast<int>(n);
+  return true;
+}
+
 CLI::Validator WaterColumnsValidator() {
   return CLI::Validator(
       [](std::string& value) -> std::string {
-        size_t used = 0;
-        long n = -1;
-        try {
-          n = std::stol(value, &used);
-        } catch (const std::exception&) {
-          used = 0;
-        }
-        if (used == value.size() && (n == 0 || (n >= 64 && n <= 16384)))
-          return "";
-        return "'" + value +
-               "': expected 0 (the output's pixels) or 64 to 16384 columns";
+        int columns = 0;
+        if (ParseWaterColumns(value, &columns)) return "";
+        return "'" + value + "': expected auto, full or 64 to 16384 columns";
       },
       "");
 }
@@ -167,7 +179,12 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.occluders = !args->no_occluders;
   o.overlap_tracking = !args->no_overlap;
   o.renderer.full_frame_output = args->full_frame;
-  o.renderer.water_shading_columns = args->water_columns;
+  // Checked by WaterColumnsValidator when given; the default is valid.
+  if (!ParseWaterColumns(args->water_columns,
+                         &o.renderer.water_shading_columns)) {
+    if (error) *error = "--water-columns '" + args->water_columns + "'";
+    return false;
+  }
   if (!render::ParseShadowFilter(args->shadows, &o.renderer.shadow_filter)) {
     if (error)
       *error = "--shadows '" + args->shadows + "': use pcf, gauss or hard";

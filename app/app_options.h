@@ -31,7 +31,8 @@ struct PipelineArgs {
   bool no_occluders = false;
   bool no_overlap = false;  // PipelineOptions::overlap_tracking off
   bool full_frame = false;  // RendererOptions::full_frame_output
-  int water_columns = 640;  // RendererOptions::water_shading_columns
+  // --water-columns auto | full | N (RendererOptions::water_shading_columns)
+  std::string water_columns = "auto";
   // --sun LAT,LON,DATETIME: the light from the sun's position (app_sun.h);
   // --north: the bearing of the board's +y, degrees clockwise from north.
   std::string sun;
@@ -43,7 +44,10 @@ struct PipelineArgs {
   SmoothingArgs smoothing;  // --smoothing and the filters' cut-offs
 };
 
-// --water-columns: 0 or 64..16384 (RendererOptions::water_shading_columns).
+// --water-columns: auto (render::kWaterColumnsAuto), full or 0 (every
+// pixel), or 64..16384 (RendererOptions::water_shading_columns); false if
+// `text` is none of these.
+bool ParseWaterColumns(const std::string& text, int* columns);
 CLI::Validator WaterColumnsValidator();
 
 // Adds --gl, the water's options (app_water.h), --no-caustics, ... to `sub`.

@@ -46,7 +46,8 @@ struct RenderBenchArgs {
   int light_paths_per_texel = 64;
   int sky_rays = 4;
   int timing_frames = 15;
-  int water_columns = 640;  // RendererOptions::water_shading_columns
+  // --water-columns auto | full | N (RendererOptions::water_shading_columns)
+  std::string water_columns = "auto";
 };
 
 // The effects whose contribution is measured, as `Effects` members.
@@ -307,7 +308,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
   ro.optics = render::WaterOptics::ForLook(look);
   ro.shadow_filter = shadow_filter;
   ro.reflection_map = reflection_map;
-  ro.water_shading_columns = args.water_columns;
+  if (!ParseWaterColumns(args.water_columns, &ro.water_shading_columns))
+    return Fail(kExitBadInput, "--water-columns '" + args.water_columns + "'");
   const render::WaterOptics& optics = ro.optics;
 
   reference::ReferenceOptions refo;
@@ -686,8 +688,8 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "walls)")
       ->capture_default_str();
   sub->add_option("--water-columns", args->water_columns,
-                  "The real-time renderer shades the water on at most this "
-                  "many columns (0: the output's pixels; at least 64)")
+                  "The real-time renderer shades the water on a grid of "
+                  "this many columns: auto, full or N >= 64")
       ->capture_default_str()
       ->check(WaterColumnsValidator());
   sub->add_option("--spp", args->samples_per_pixel,

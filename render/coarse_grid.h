@@ -29,9 +29,14 @@ struct CoarseGrid {
   glm::ivec4 RectOut(const glm::ivec4& r, int pad) const;
 };
 
+// The automatic choice (RendererOptions::water_shading_columns < 0): 80% of
+// the output's columns, at most 640.
+constexpr double kAutoColumnShare = 0.8;
+constexpr int kAutoMaxColumns = 640;
+
 // The grid for an output of `width` x `height` pixels shaded on at most
-// `max_columns` columns (0: no limit); inactive when the output has no more
-// columns than that.
+// `max_columns` columns (0: no limit; negative: the automatic choice);
+// inactive when the output has no more columns than that.
 CoarseGrid CoarseGridFor(int width, int height, int max_columns);
 
 // The convex polygon, counter-clockwise in window coordinates of an image

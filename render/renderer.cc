@@ -93,8 +93,9 @@ bool RendererOptions::IsValid(std::string* error) const {
   if (caustics_map_size < 8 || caustics_map_size > 4096)
     return fail("caustics_map_size must be in [8, 4096]");
   if (caustics_threads < 1) return fail("caustics_threads must be >= 1");
-  if (water_shading_columns != 0 && water_shading_columns < 64)
-    return fail("water_shading_columns must be 0 or >= 64");
+  if (water_shading_columns != kWaterColumnsAuto &&
+      water_shading_columns != 0 && water_shading_columns < 64)
+    return fail("water_shading_columns must be -1 (auto), 0 or >= 64");
   if (!(reflection_fade_m > 0)) return fail("reflection_fade_m must be > 0");
   if (shadow_move_threshold_m < 0 || shadow_turn_threshold_rad < 0)
     return fail("shadow thresholds must be >= 0");

@@ -302,9 +302,9 @@ BENCHMARK(BM_WaterRegions)
 
 // A webcam's modes: the whole frame as the pipeline runs it (render, wait,
 // read back into a BGR image) at each size, with the same field of view,
-// the water shaded on at most `cols` columns (RendererOptions::
-// water_shading_columns; 0: at the output's pixels). Effects as in
-// kFullChanging (water and pen change every frame).
+// the water shaded on `cols` columns (RendererOptions::
+// water_shading_columns; -1: automatic, 0: at the output's pixels). Effects as
+// in kFullChanging (water and pen change every frame).
 void BM_FrameAtSize(benchmark::State& state) {
   const int w = static_cast<int>(state.range(0));
   const int h = static_cast<int>(state.range(1));
@@ -340,10 +340,11 @@ void BM_FrameAtSize(benchmark::State& state) {
 }
 BENCHMARK(BM_FrameAtSize)
     ->ArgNames({"w", "h", "cols"})
-    ->Args({640, 480, 640})
-    ->Args({1280, 720, 640})
+    ->Args({640, 480, kWaterColumnsAuto})
+    ->Args({640, 480, 0})
+    ->Args({1280, 720, kWaterColumnsAuto})
     ->Args({1280, 720, 0})
-    ->Args({1920, 1080, 640})
+    ->Args({1920, 1080, kWaterColumnsAuto})
     ->Args({1920, 1080, 0})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)

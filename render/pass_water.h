@@ -42,7 +42,8 @@ class WaterPass {
     // output is the same. false: every water pixel takes every effect.
     bool regions = true;
     // Shade on a grid of at most this many columns (coarse_grid.h) and
-    // upsample into the water's output pixels; 0: at the output's pixels.
+    // upsample into the water's output pixels; 0: at the output's pixels;
+    // negative: the automatic choice (CoarseGridFor).
     int shading_columns = 0;
   };
   bool Create(const Options& options, std::string* error);

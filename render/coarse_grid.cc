@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/camera.h"
+#include "render/frame_state.h"
 
 namespace ripple::render::internal {
 
@@ -63,13 +64,12 @@ std::vector<glm::dvec2> GrownBoxHull(const glm::dmat4& clip_from_tank,
                                      double size_x, double size_y, double z0,
                                      double z1, int width, int height,
                                      double grow) {
+  glm::dvec3 corners[8];
+  BoxCorners(size_x, size_y, z0, z1, corners);
   std::vector<glm::dvec2> points;
   points.reserve(32);
-  for (int i = 0; i < 8; ++i) {
-    const glm::dvec4 c =
-        clip_from_tank * glm::dvec4((i & 1 ? 0.5 : -0.5) * size_x,
-                                    (i & 2 ? 0.5 : -0.5) * size_y,
-                                    i & 4 ? z1 : z0, 1.0);
+  for (const glm::dvec3& corner : corners) {
+    const glm::dvec4 c = clip_from_tank * glm::dvec4(corner, 1.0);
     if (c.w <= 1e-6) return {};
     const glm::dvec2 w = WindowFromClip(c, width, height);
     for (int s = 0; s < 4; ++s) {

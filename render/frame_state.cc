@@ -170,11 +170,16 @@ glm::ivec4 BoxRect(const glm::dmat4& clip_from_tank, double size_x,
                    double size_y, double z0, double z1, int pad, int width,
                    int height) {
   glm::dvec3 corners[8];
+  BoxCorners(size_x, size_y, z0, z1, corners);
+  return PointsRect(clip_from_tank, corners, 8, pad, width, height);
+}
+
+void BoxCorners(double size_x, double size_y, double z0, double z1,
+                glm::dvec3 corners[8]) {
   for (int i = 0; i < 8; ++i) {
     corners[i] = {(i & 1 ? 0.5 : -0.5) * size_x, (i & 2 ? 0.5 : -0.5) * size_y,
                   i & 4 ? z1 : z0};
   }
-  return PointsRect(clip_from_tank, corners, 8, pad, width, height);
 }
 
 glm::ivec4 PointsRect(const glm::dmat4& clip_from_tank, const glm::dvec3* p,

@@ -135,6 +135,11 @@ void SetUniform(GLint location, const glm::dmat3& m);
 void SetUniform(GLint location, const glm::vec3& v);
 void SetUniform(GLint location, const glm::dvec3& v);
 
+// The corners of a centred box in the tank frame (x, y sizes, z from z0 to
+// z1): bit 0 of the index picks +x, bit 1 +y, bit 2 z1.
+void BoxCorners(double size_x, double size_y, double z0, double z1,
+                glm::dvec3 corners[8]);
+
 // Window rectangle (x, y, w, h) of a centred box in the tank frame (x, y
 // sizes, z from z0 to z1), grown by `pad` pixels and clipped to the window;
 // the whole window when a corner is behind the camera.

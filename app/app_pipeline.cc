@@ -78,6 +78,12 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->drawn_obstacles_ = RenderObstaclesFromRig(rig);
   p->UpdateSceneObstacles();
 
+  // With the next frame's tracking and water on the second core, llvmpipe
+  // rasterises on the drawing thread: its own threads would take that core
+  // from the worker in the middle of every frame. Measured on two cores
+  // (docs/render.md, "Two cores, four jobs"): 640x480 0.7 ms and 1280x720
+  // 0.5 ms a frame faster, 1920x1080 the same; without overlap the same.
+  if (options.overlap_tracking) render::SetSoftwareRasterThreads(0);
   p->context_ = render::Context::TryCreate(
       options.backend, camera.width, camera.height, error, options.window);
   if (!p->context_) return nullptr;
@@ -298,48 +304,9 @@ void Pipeline::UpdateSceneObstacles() {
     if (o) scene_.obstacles.push_back(*o);
 }
 
-FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
-                              bool read_back, const cv::Mat* next,
-                              double next_time_s) {
-  FrameReport report;
-  const bench::Stopwatch frame_watch;
-  report.times.cap = cap_ms;
-
-  // Tracking: done during the last frame, or now.
-  if (next_tracking_) {
-    RIPPLE_CHECK(next_data_ == bgr.data && next_time_s_ == time_s,
-                 "Pipeline::Process: not the frame whose tracking was done");
-    report.tracking = std::move(*next_tracking_);
-    next_tracking_.reset();
-  } else {
-    report.tracking = tracker_->Track(bgr, time_s);
-  }
-  // The next frame's tracking, beside this frame's water and render (the
-  // tracker is this thread's no more until it is joined below).
-  JoinedFuture<tracking::FrameResult> next_job;
-  if (next != nullptr && !next->empty()) {
-    next_data_ = next->data;
-    next_time_s_ = next_time_s;
-    next_job = JoinedFuture<tracking::FrameResult>(
-        tracking_worker_.Run([this, next, next_time_s] {
-          return tracker_->Track(*next, next_time_s);
-        }));
-  }
-  const tracking::FrameResult& tr = report.tracking;
-  report.times.det = tr.timings.detect_ms;
-  report.times.pose = tr.timings.pose_ms;
-
-  // Real objects in front of the tank, on the second core while the water
-  // advances (they share nothing: the plate reads the frame and the poses,
-  // the water the tip).
-  JoinedFuture<double> occ(occ_worker_.Run([&] {
-    const bench::Stopwatch occ_watch;
-    UpdateRealObjects(bgr, tr);
-    return occ_watch.ElapsedMs();
-  }));
-
-  // Interaction and water.
-  const bench::Stopwatch sim_watch;
+Pipeline::WaterStep Pipeline::AdvanceWater(const tracking::FrameResult& tr,
+                                           double time_s) {
+  const bench::Stopwatch watch;
   if (tr.tip_in_tank && tr.pen.status == tracking::TrackStatus::kTracked) {
     // A non-finite tip is refused: the pen counts as not seen.
     if (!water_->SetPenTip(
@@ -352,40 +319,118 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   last_time_s_ = time_s;
   have_time_ = true;
   water_->Advance(dt);
-  report.water = water_->stats();
+  WaterStep step;
+  step.stats = water_->stats();
   // The caustics' coarse view is synthesised here (when the surface
   // changed), so its cost counts as the water's.
-  const sim::HeightFieldView coarse =
-      options_.effects.caustics ? water_->CoarseView() : sim::HeightFieldView();
-  report.times.sim = sim_watch.ElapsedMs();
+  if (options_.effects.caustics) step.coarse = water_->CoarseView();
+  step.ms = watch.ElapsedMs();
+  return step;
+}
+
+void Pipeline::SetSceneWater(const WaterStep& step) {
+  const sim::HeightFieldView view = water_->View();
+  scene_.water.heights = view.heights;
+  scene_.water.nx = view.nx;
+  scene_.water.ny = view.ny;
+  scene_.water.cell_size = static_cast<float>(view.cell_m);
+  scene_.water.change_counter = view.counter;
+  scene_.caustics_water = {};
+  const sim::HeightFieldView& coarse = step.coarse;
+  if (coarse.heights != nullptr && coarse.heights != view.heights) {
+    scene_.caustics_water.heights = coarse.heights;
+    scene_.caustics_water.nx = coarse.nx;
+    scene_.caustics_water.ny = coarse.ny;
+    scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
+    scene_.caustics_water.change_counter = coarse.counter;
+  }
+}
+
+FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
+                              bool read_back, const cv::Mat* next,
+                              double next_time_s) {
+  FrameReport report;
+  const bench::Stopwatch frame_watch;
+  report.times.cap = cap_ms;
+
+  // Tracking and water: done during the last frame, or now.
+  std::optional<WaterStep> water_step;
+  if (next_tracking_) {
+    RIPPLE_CHECK(next_data_ == bgr.data && next_time_s_ == time_s,
+                 "Pipeline::Process: not the frame whose tracking was done");
+    report.tracking = std::move(*next_tracking_);
+    next_tracking_.reset();
+    water_step = std::move(next_water_);
+    next_water_.reset();
+  } else {
+    report.tracking = tracker_->Track(bgr, time_s);
+  }
+  const tracking::FrameResult& tr = report.tracking;
+  report.times.det = tr.timings.detect_ms;
+  report.times.pose = tr.timings.pose_ms;
+
+  // Real objects in front of the tank, on the second core while the water
+  // advances and its caustics are traced (they share nothing: the plate
+  // reads the frame and the poses, the water the tip).
+  JoinedFuture<double> occ(occ_worker_.Run([&] {
+    const bench::Stopwatch occ_watch;
+    UpdateRealObjects(bgr, tr);
+    return occ_watch.ElapsedMs();
+  }));
+  if (!water_step) water_step = AdvanceWater(tr, time_s);
+  report.water = water_step->stats;
+  report.times.sim = water_step->ms;
+  const bool draw = tr.tank.has_pose();
+  double caustics_ahead_ms = 0;
+  if (draw) {
+    SetSceneWater(*water_step);
+    scene_.effects = options_.effects;
+    renderer_->UpdateCaustics(scene_, &caustics_ahead_ms);
+  }
   report.times.occ = occ.get();
   UpdateLight(bgr, tr, &report);
 
+  // The next frame's tracking and water, on a worker thread beside this
+  // frame's render (the tracker is this thread's no more until the job is
+  // joined below). The water waits until the render has taken this
+  // frame's surface: Render copies the heights into GL and reads them no
+  // more once it returns. The latch is declared after the job so that it
+  // is released, on every way out, before the job is waited for.
+  JoinedFuture<std::pair<tracking::FrameResult, WaterStep>> next_job;
+  std::promise<void> surface_taken;
+  struct Release {
+    std::promise<void>* promise;
+    bool done = false;
+    void operator()() {
+      if (!done) promise->set_value();
+      done = true;
+    }
+    ~Release() { (*this)(); }
+  } release_surface{&surface_taken};
+  if (next != nullptr && !next->empty()) {
+    next_data_ = next->data;
+    next_time_s_ = next_time_s;
+    next_job = JoinedFuture<std::pair<tracking::FrameResult, WaterStep>>(
+        tracking_worker_.Run([this, next, next_time_s,
+                              taken = surface_taken.get_future()] {
+          tracking::FrameResult next_tr = tracker_->Track(*next, next_time_s);
+          taken.wait();
+          WaterStep step = AdvanceWater(next_tr, next_time_s);
+          return std::make_pair(std::move(next_tr), step);
+        }));
+  }
+
   // Render.
   const bench::Stopwatch render_watch;
-  if (tr.tank.has_pose()) {
+  if (draw) {
     scene_.video = {bgr.data, bgr.cols, bgr.rows, static_cast<int>(bgr.step)};
     scene_.cam_from_tank = ToGlm(*tr.tank.cam_from_object);
-    const sim::HeightFieldView view = water_->View();
-    scene_.water.heights = view.heights;
-    scene_.water.nx = view.nx;
-    scene_.water.ny = view.ny;
-    scene_.water.cell_size = static_cast<float>(view.cell_m);
-    scene_.water.change_counter = view.counter;
-    scene_.caustics_water = {};
-    if (coarse.heights != nullptr && coarse.heights != view.heights) {
-      scene_.caustics_water.heights = coarse.heights;
-      scene_.caustics_water.nx = coarse.nx;
-      scene_.caustics_water.ny = coarse.ny;
-      scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
-      scene_.caustics_water.change_counter = coarse.counter;
-    }
     scene_.pen_visible = tr.pen.has_pose() && rig_.pen.has_value();
     if (scene_.pen_visible)
       scene_.tank_from_pen =
           ToGlm(tr.tank.cam_from_object->Inverse() * *tr.pen.cam_from_object);
-    scene_.effects = options_.effects;
     renderer_->Render(scene_);
+    release_surface();
     report.passes = renderer_->timings();
     report.rendered = true;
     if (read_back) {
@@ -394,16 +439,23 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
       renderer_->Finish();
     }
     report.times.shadow = report.passes.shadow_ms;
-    report.times.caustics = report.passes.caustics_ms;
+    // A light that moved in UpdateLight makes Render trace them again.
+    report.times.caustics = caustics_ahead_ms + report.passes.caustics_ms;
     report.times.drw =
         std::max(0.0, render_watch.ElapsedMs() - report.times.shadow -
-                          report.times.caustics);
+                          report.passes.caustics_ms);
   } else if (read_back) {
     // Nothing to register the water to: the video passes through.
+    release_surface();
     bgr.copyTo(composite_);
     report.times.drw = render_watch.ElapsedMs();
   }
-  if (next_job.valid()) next_tracking_ = next_job.get();
+  release_surface();
+  if (next_job.valid()) {
+    auto ahead = next_job.get();
+    next_tracking_ = std::move(ahead.first);
+    next_water_ = ahead.second;
+  }
   report.times.total = frame_watch.ElapsedMs();
   // Without overlap the frame's latency is its own time; with it, the
   // frame loop adds the last frame's time, during which it was tracked.

@@ -50,8 +50,8 @@ struct PipelineOptions {
   tracking::LightFromShadowOptions light_estimator;
   tracking::LightTrackerOptions light_tracker;
   int light_every_frames = 10;  // an estimate is started every this many
-  // Tracking of frame n + 1 overlaps the water and the render of frame n,
-  // on the second core, when the frame loop has frame n + 1 already (video
+  // Tracking and water of frame n + 1 overlap the render of frame n, on
+  // the second core, when the frame loop has frame n + 1 already (video
   // files, the demo). It spends a frame of latency for throughput
   // (StageTimes::lat); live, where waiting for the camera's next frame
   // would add its period, keeps it off.
@@ -109,9 +109,10 @@ class Pipeline {
   // Processes one BGR frame taken at `time_s` (seconds, from the source's
   // timestamps; the water advances by the difference to the last frame).
   // With `read_back`, composite() holds the finished frame afterwards.
-  // With `next` (the frame after this one, and its time), its tracking runs
-  // on a worker thread beside this frame's water and render, and is waited
-  // for before returning; the next call must then be for that frame.
+  // With `next` (the frame after this one, and its time), its tracking and
+  // then its water step run on a worker thread beside this frame's render,
+  // and are waited for before returning; the next call must then be for
+  // that frame.
   FrameReport Process(const cv::Mat& bgr, double time_s, double cap_ms,
                       bool read_back, const cv::Mat* next = nullptr,
                       double next_time_s = 0);
@@ -146,6 +147,20 @@ class Pipeline {
   const std::uint8_t* next_data_ = nullptr;
   double next_time_s_ = 0;
   std::unique_ptr<sim::WaterSurface> water_;
+  // One step of the water: its statistics, the caustics' coarse view of
+  // the surface (empty without caustics) and its CPU time.
+  struct WaterStep {
+    sim::AdvanceStats stats;
+    sim::HeightFieldView coarse;
+    double ms = 0;
+  };
+  // Sets the pen from the frame's tracking and advances the water to
+  // `time_s`.
+  WaterStep AdvanceWater(const tracking::FrameResult& tracking, double time_s);
+  // Points the scene's surfaces at the water's current heights.
+  void SetSceneWater(const WaterStep& step);
+  // The next frame's water step, done with its tracking (next_tracking_).
+  std::optional<WaterStep> next_water_;
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<tracking::CleanPlate> plate_;

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <string>
 
 #include "geometry/check.h"
 #include "render/context_internal.h"
@@ -30,6 +31,12 @@ std::optional<Backend> ParseBackend(const std::string& name) {
     if (name == BackendName(b)) return b;
   }
   return std::nullopt;
+}
+
+bool SetSoftwareRasterThreads(int threads) {
+  if (threads < 0 || std::getenv("LP_NUM_THREADS") != nullptr) return false;
+  return setenv("LP_NUM_THREADS", std::to_string(threads).c_str(),
+                /*overwrite=*/0) == 0;
 }
 
 std::vector<Backend> CompiledBackends() {

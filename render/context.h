@@ -25,6 +25,14 @@ std::optional<Backend> ParseBackend(const std::string& name);
 // Backends compiled into this build (RIPPLE_WITH_EGL/OSMESA/GLFW).
 std::vector<Backend> CompiledBackends();
 
+// The threads Mesa's software rasteriser (llvmpipe) rasterises on, for
+// contexts created after the call: 0 rasterises on the thread that draws;
+// llvmpipe's own default is one thread per core. It sets LP_NUM_THREADS
+// unless the user has set it (the user's value wins) and does nothing to a
+// GPU's driver. It changes the environment: call it before other threads
+// start. True if it set the variable.
+bool SetSoftwareRasterThreads(int threads);
+
 // An OpenGL 3.3 core context, current on the creating thread, with the GL
 // function table (render/gl.h) loaded through the backend's GetProcAddress.
 // RAII and move-only (held by unique_ptr). One context at a time: creating

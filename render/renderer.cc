@@ -423,6 +423,11 @@ bool Renderer::Render(const SceneInputs& scene) {
   return CheckGlError("Renderer::Render");
 }
 
+bool Renderer::UpdateCaustics(const SceneInputs& scene, double* ms) {
+  *ms = 0;
+  return scene.effects.caustics && impl_->caustics.Update(scene, ms);
+}
+
 bool Renderer::RenderVideoOnly(const VideoFrame& video) {
   Impl& m = *impl_;
   const auto t_start = Clock::now();

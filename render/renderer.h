@@ -258,6 +258,13 @@ class Renderer {
   // stderr, in every build type) if GL reported an error.
   bool Render(const SceneInputs& scene);
 
+  // Recomputes the caustics map for `scene`'s water, light and tank if they
+  // changed since it was last computed: the CPU part of Render's caustics,
+  // which Render then finds up to date. A caller may run it first, beside
+  // work of its own on other threads. True if it was recomputed, with its
+  // CPU time in `ms`; false without scene.effects.caustics.
+  bool UpdateCaustics(const SceneInputs& scene, double* ms);
+
   // Draws only the video into the FBO: the background of Render(),
   // undistorted the same way, without water, tank, pen or effects. For
   // frames where the tank is not tracked. Without any video so far the

@@ -138,9 +138,10 @@ TEST_F(FrameLoopTest, SourceFailureIsReportedAfterTheFramesBeforeIt) {
   EXPECT_EQ(sink.closed, 1);
 }
 
-// Tracking frame n + 1 beside frame n's render changes nothing but the
-// timing: the same poses and the same composites as tracking each frame
-// first, and each frame's latency adds the frame it was tracked during.
+// Tracking frame n + 1 and advancing its water beside frame n's render
+// changes nothing but the timing: the same poses, the same water and the
+// same composites as doing each frame's work in turn, and each frame's
+// latency adds the frame it was tracked during.
 TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
   const tracking::Camera camera = test_data::DefaultCamera().Scaled(320, 240);
   const tracking::Rig rig = test_data::DefaultRig();
@@ -154,6 +155,7 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
     std::vector<tracking::FrameResult> tracking;
     std::vector<cv::Mat> composites;
     std::vector<bench::StageTimes> times;
+    std::vector<sim::AdvanceStats> water;
   };
   // Whether a pipeline (a headless GL context) can be made at all.
   {
@@ -178,6 +180,7 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
       out->tracking.push_back(f.report->tracking);
       out->composites.push_back(f.pipeline->composite().clone());
       out->times.push_back(f.report->times);
+      out->water.push_back(f.report->water);
       return true;
     });
     struct ReadBack : FrameSink {
@@ -192,7 +195,7 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
   Run first, beside;
   ASSERT_TRUE(run(false, &first));
   ASSERT_TRUE(run(true, &beside));
-  int tracked = 0;
+  int tracked = 0, pushed = 0;
   for (int i = 0; i < seq.frames; ++i) {
     SCOPED_TRACE(i);
     const tracking::FrameResult &a = first.tracking[i], &b = beside.tracking[i];
@@ -207,6 +210,12 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
       EXPECT_EQ(a.pen.cam_from_object->translation,
                 b.pen.cam_from_object->translation);
     }
+    const sim::AdvanceStats &wa = first.water[i], &wb = beside.water[i];
+    EXPECT_EQ(wa.counter, wb.counter);
+    EXPECT_EQ(wa.pen_touched, wb.pen_touched);
+    EXPECT_EQ(wa.volume_m3, wb.volume_m3);
+    EXPECT_EQ(wa.max_abs_height_m, wb.max_abs_height_m);
+    if (wa.pen_touched) ++pushed;
     EXPECT_EQ(cv::norm(first.composites[i], beside.composites[i], cv::NORM_INF),
               0.0);
     EXPECT_DOUBLE_EQ(first.times[i].lat, first.times[i].total);
@@ -214,6 +223,8 @@ TEST(FrameLoopOverlapTest, SameFramesAsTrackingEachFrameFirst) {
     EXPECT_DOUBLE_EQ(beside.times[i].lat, beside.times[i].total + before);
   }
   EXPECT_GT(tracked, seq.frames / 2);
+  // The water's step is compared with the pen in it.
+  EXPECT_GT(pushed, 0);
 }
 
 // The detector's decimation follows the webcam's mode.

@@ -3,7 +3,10 @@
 // scripts/test.sh).
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <opencv2/core.hpp>
+#include <optional>
+#include <string>
 
 #include "render/renderer.h"
 #include "tests/render/golden.h"
@@ -35,6 +38,28 @@ TEST_P(BackendTest, RendersFlatWaterGolden) {
   r->Present();  // shows the frame on GLFW, no-op headless
   EXPECT_TRUE(testing::MatchesGolden(out, "flat"))
       << BackendName(backend) << ": " << ctx->Description();
+}
+
+// The rasteriser's threads go to llvmpipe through LP_NUM_THREADS, and a
+// value the user set is kept.
+TEST(SoftwareRasterThreadsTest, SetsTheVariableUnlessTheUserDid) {
+  const char* was = std::getenv("LP_NUM_THREADS");
+  const std::optional<std::string> saved =
+      was ? std::optional<std::string>(was) : std::nullopt;
+  unsetenv("LP_NUM_THREADS");
+  EXPECT_FALSE(SetSoftwareRasterThreads(-1));
+  EXPECT_EQ(std::getenv("LP_NUM_THREADS"), nullptr);
+  EXPECT_TRUE(SetSoftwareRasterThreads(0));
+  ASSERT_NE(std::getenv("LP_NUM_THREADS"), nullptr);
+  EXPECT_STREQ(std::getenv("LP_NUM_THREADS"), "0");
+  setenv("LP_NUM_THREADS", "3", 1);
+  EXPECT_FALSE(SetSoftwareRasterThreads(0));
+  EXPECT_STREQ(std::getenv("LP_NUM_THREADS"), "3");
+  if (saved) {
+    setenv("LP_NUM_THREADS", saved->c_str(), 1);
+  } else {
+    unsetenv("LP_NUM_THREADS");
+  }
 }
 
 std::string Name(const ::testing::TestParamInfo<Backend>& info) {

@@ -417,6 +417,40 @@ TEST(EffectsTest, RedrawsOnlyWhenInputsChange) {
   EXPECT_FALSE(d->timings().shadow_redrawn);
 }
 
+// Caustics traced before Render (UpdateCaustics, which a caller overlaps
+// with its own work) are the ones Render draws: Render finds them up to
+// date, and the frame is the one Render alone makes.
+TEST(EffectsTest, CausticsTracedAheadAreTheOnesRenderDraws) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  s.inputs.effects.caustics = true;
+  auto alone = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  auto ahead = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(alone, nullptr);
+  ASSERT_NE(ahead, nullptr);
+  SceneInputs& in = s.inputs;
+  for (int step = 0; step < 3; ++step) {
+    SCOPED_TRACE(step);
+    in.water.change_counter++;
+    double ms = -1;
+    EXPECT_TRUE(ahead->UpdateCaustics(in, &ms));
+    EXPECT_GE(ms, 0.0);
+    EXPECT_FALSE(ahead->UpdateCaustics(in, &ms));  // already up to date
+    EXPECT_EQ(ms, 0.0);
+    const cv::Mat a = RenderScene(ahead.get(), in);
+    EXPECT_FALSE(ahead->timings().caustics_recomputed);
+    const cv::Mat b = RenderScene(alone.get(), in);
+    EXPECT_TRUE(alone->timings().caustics_recomputed);
+    EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0);
+  }
+  // Without the effect there is nothing to trace.
+  in.effects.caustics = false;
+  in.water.change_counter++;
+  double ms = -1;
+  EXPECT_FALSE(ahead->UpdateCaustics(in, &ms));
+  EXPECT_EQ(ms, 0.0);
+}
+
 // Without a height field the water is flat, and under a vertical light flat
 // water's caustics map is uniform 1 (no strip along the walls, no light
 // through them): turning caustics on must not change the floor.

@@ -128,8 +128,8 @@ struct RendererOptions {
   float shadow_gauss_sigma_texels = 1.5f;
   int caustics_map_size = 256;  // texels per side, over the tank floor
   // CPU threads for the caustics map. One: the map is about a millisecond
-  // of work, the frame loop's second core is tracking the next frame
-  // meanwhile, and each of the kernel's four parallel phases starts its
+  // of work, the frame loop's second core finds the real objects in front
+  // of the tank meanwhile, and each of the kernel's four parallel phases starts its
   // threads anew, so under any background load a started thread waits for
   // a core (the demo's caustics stage with two nice-19 processes running:
   // 7.2 ms with two threads, 1.2 ms with one; docs/render.md, "Caustics").

@@ -131,8 +131,9 @@ struct RendererOptions {
   // of work, the frame loop's second core finds the real objects in front
   // of the tank meanwhile, and each of the kernel's four parallel phases
   // starts its threads anew, so under any background load a started thread
-  // waits for a core (the demo's caustics stage with two nice-19 processes running:
-  // 7.2 ms with two threads, 1.2 ms with one; docs/render.md, "Caustics").
+  // waits for a core (the demo's caustics stage with two nice-19 processes
+  // running: 7.2 ms with two threads, 1.2 ms with one; docs/render.md,
+  // "Caustics").
   int caustics_threads = 1;
   // The shadow map is redrawn only when an occluder moved relative to the
   // tank by more than these since the last redraw, or the light changed.

@@ -446,7 +446,6 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
                           report.passes.caustics_ms);
   } else if (read_back) {
     // Nothing to register the water to: the video passes through.
-    release_surface();
     bgr.copyTo(composite_);
     report.times.drw = render_watch.ElapsedMs();
   }

@@ -372,10 +372,7 @@ bool Renderer::Render(const SceneInputs& scene) {
     m.timings.shadow_redrawn = true;
   }
   f.shadow = m.shadow.transform();
-  if (fx.caustics) {
-    m.timings.caustics_recomputed =
-        m.caustics.Update(scene, &m.timings.caustics_ms);
-  }
+  m.timings.caustics_recomputed = UpdateCaustics(scene, &m.timings.caustics_ms);
 
   // The environment cube map, only when the frame changed enough. From the
   // quarter-size map, which Upload made from this frame (without lens

@@ -190,6 +190,14 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   s.glass_transmittance =
       static_cast<float>((1.0 - FresnelReflectance(1.0, 1.0, o.glass_ior)) *
                          (1.0 - FresnelReflectance(1.0, o.glass_ior, o.ior)));
+  const double top_t = 1.0 - FresnelReflectance(cos_l, 1.0, o.glass_ior);
+  const double inner_t = 1.0 - FresnelReflectance(1.0, o.glass_ior, o.ior);
+  const double ng2 = double(o.glass_ior) * o.glass_ior;
+  for (int c = 0; c < 3; ++c) {
+    s.under_glass[c] = static_cast<float>(
+        (a * o.sky_tint[c] + (1.0 - a) * o.sun_tint[c] * top_t / ng2) *
+        inner_t);
+  }
   const double alpha = o.light_angular_radius_rad;
   s.inv_alpha2 = static_cast<float>(1.0 / (alpha * alpha));
   s.glint_peak = static_cast<float>((1.0 - a) / (cos_l * alpha * alpha));

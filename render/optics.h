@@ -142,6 +142,16 @@ struct WaterShading {
   // video shows beyond it, times the glass's two interfaces at normal
   // incidence.
   float glass_transmittance = 1;
+  // The board under a glass wall, seen from inside the water through the
+  // wall's inner face (a ray the outer face reflects totally reaches it),
+  // relative to the dry board the video shows, per band. The sky's share
+  // keeps its light: the glass around the point fills its hemisphere with
+  // n_g^2 times the surroundings' radiance, and the way out divides by
+  // n_g^2. The direct light is collimated: it enters through the wall's top
+  // face (Fresnel at the light's incidence) and is guided down by total
+  // internal reflection with no n_g^2 gain, so it leaves divided by n_g^2.
+  // Times the glass-water interface at normal incidence on the way out.
+  glm::vec3 under_glass{1.0f};
   // Glint radiance per unit Fresnel at the centre of the light's disc:
   // (1 - a) / (cos_l alpha^2), the disc's radiance with its energy spread
   // as exp(-theta^2 / alpha^2) / (pi alpha^2) around the light.

@@ -32,6 +32,7 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->floor_sun = p.Uniform("u_floor_sun");
   s->inv_n2 = p.Uniform("u_inv_n2");
   s->glass_t = p.Uniform("u_glass_t");
+  s->under_glass = p.Uniform("u_under_glass");
   s->glint_peak = p.Uniform("u_glint_peak");
   s->return_tint = p.Uniform("u_return_tint");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
@@ -242,6 +243,7 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   SetUniform(s.floor_sun, w.floor_sun);
   glUniform1f(s.inv_n2, w.inv_n2);
   glUniform1f(s.glass_t, w.glass_transmittance);
+  SetUniform(s.under_glass, w.under_glass);
   glUniform1f(s.glint_peak, w.glint_peak);
   glUniform1f(s.inv_alpha2, w.inv_alpha2);
   SetUniform(s.return_tint, return_tint_);

@@ -53,6 +53,7 @@ uniform sampler2D u_floor_return;
 uniform vec3 u_return_tint;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
+uniform vec3 u_under_glass;      // the board under a wall, over the dry board
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
@@ -236,9 +237,12 @@ void main() {
                        (1.0 - returned * min(video, vec3(0.95))),
                    video, obstacle) *
                u_inv_n2;
+  // Out through a wall: the board beyond it (the video) or the sky; the
+  // board under the glass is lit through the glass (optics.h, under_glass).
   vec3 beyond_light =
-      out_dir.z < -1e-5 || under_glass ? video : vec3(u_ambient);
-  vec3 below = floor_seen ? under : beyond_light * u_glass_t;
+      (out_dir.z < -1e-5 ? video : vec3(u_ambient)) * u_glass_t;
+  vec3 below = floor_seen ? under
+                          : (under_glass ? video * u_under_glass : beyond_light);
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

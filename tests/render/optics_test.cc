@@ -145,6 +145,42 @@ TEST(OpticsTest, WaterShadingConstants) {
   EXPECT_NEAR(s.inv_n2, 1 / (o.ior * o.ior), 1e-6);
 }
 
+// The board under a glass wall, seen through the wall from inside the
+// water: the sky's share keeps its light (the n_g^2 of the glass's filled
+// hemisphere cancels on the way out), the collimated direct light loses
+// the top face's Fresnel and n_g^2; both cross the glass-water interface.
+// Normal-incidence Fresnel written out: ((n1 - n2) / (n1 + n2))^2.
+TEST(OpticsTest, BoardUnderGlassKeepsTheSkyAndLosesNSquaredOfTheDirectLight) {
+  WaterOptics o = WaterOptics::ForLook(WaterLook::kClear);
+  const double inner = 1.0 - std::pow((1.5 - 1.333) / (1.5 + 1.333), 2.0);
+  const double top = 1.0 - std::pow(0.5 / 2.5, 2.0);
+  o.ambient_share = 1.0f;
+  WaterShading s = ComputeWaterShading(o, 0.025, glm::dvec3(0.3, 0.2, 1.0));
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.under_glass[c], inner, 1e-6);
+  o.ambient_share = 0.0f;
+  s = ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(s.under_glass[c], top * inner / 2.25, 1e-6);
+  // The default room light: between the two, and darker at a lower light
+  // (more of it reflected by the top face).
+  o.ambient_share = 0.3f;
+  const WaterShading high =
+      ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
+  const WaterShading low =
+      ComputeWaterShading(o, 0.025, glm::dvec3(1.0, 0.0, 0.3));
+  EXPECT_NEAR(high.under_glass.g, (0.3 + 0.7 * top / 2.25) * inner, 1e-6);
+  EXPECT_LT(low.under_glass.g, high.under_glass.g);
+  // Daylight tints weigh the two shares per band.
+  o.sky_tint = glm::vec3(1.4f, 1.0f, 0.6f);
+  o.sun_tint = (glm::vec3(1.0f) - 0.3f * o.sky_tint) / 0.7f;
+  s = ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(
+        s.under_glass[c],
+        (0.3 * o.sky_tint[c] + 0.7 * o.sun_tint[c] * top / 2.25) * inner, 1e-6);
+  }
+}
+
 // The floor's light that comes back to it: in a wide layer without
 // absorption it is the diffuse internal reflectance; absorption takes more
 // red than blue; the walls let part of it out, more near them, and let the

@@ -252,11 +252,9 @@ void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
                   plate.plate_counter()};
 }
 
-void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
-                                 const tracking::FrameResult& tr) {
-  scene_.occluders = {};
-  scene_.plate = {};
-  if (!plate_ || !tr.tank.has_pose()) return;
+Pipeline::RealViews Pipeline::UpdateRealObjects(
+    const cv::Mat& bgr, const tracking::FrameResult& tr) {
+  if (!plate_ || !tr.tank.has_pose()) return {};
   const tracking::Pose& cam_from_tank = *tr.tank.cam_from_object;
   cv::Mat exclude;
   if (tr.pen.has_pose() && rig_.pen) {
@@ -295,7 +293,9 @@ void Pipeline::UpdateRealObjects(const cv::Mat& bgr,
   }
   CombineRealMask(plate_->foreground(), plate_->foreground_window(), exclude,
                   &real_mask_);
-  SetRealObjectViews(*plate_, real_mask_, &scene_);
+  render::SceneInputs views;
+  SetRealObjectViews(*plate_, real_mask_, &views);
+  return {views.occluders, views.plate};
 }
 
 void Pipeline::UpdateSceneObstacles() {
@@ -328,21 +328,34 @@ Pipeline::WaterStep Pipeline::AdvanceWater(const tracking::FrameResult& tr,
   return step;
 }
 
-void Pipeline::SetSceneWater(const WaterStep& step) {
+void Pipeline::TraceCaustics(const WaterStep& step, double* ms) {
+  *ms = 0;
+  // A scene of its own: on the worker this runs while the render may still
+  // read scene_ (which the worker only reads).
+  render::SceneInputs& s = caustics_scene_;
+  s.tank = scene_.tank;
+  s.light_in_tank = scene_.light_in_tank;
+  s.effects = options_.effects;
+  SetSceneWater(step, &s);
+  renderer_->UpdateCaustics(s, ms);
+}
+
+void Pipeline::SetSceneWater(const WaterStep& step,
+                             render::SceneInputs* scene) const {
   const sim::HeightFieldView view = water_->View();
-  scene_.water.heights = view.heights;
-  scene_.water.nx = view.nx;
-  scene_.water.ny = view.ny;
-  scene_.water.cell_size = static_cast<float>(view.cell_m);
-  scene_.water.change_counter = view.counter;
-  scene_.caustics_water = {};
+  scene->water.heights = view.heights;
+  scene->water.nx = view.nx;
+  scene->water.ny = view.ny;
+  scene->water.cell_size = static_cast<float>(view.cell_m);
+  scene->water.change_counter = view.counter;
+  scene->caustics_water = {};
   const sim::HeightFieldView& coarse = step.coarse;
   if (coarse.heights != nullptr && coarse.heights != view.heights) {
-    scene_.caustics_water.heights = coarse.heights;
-    scene_.caustics_water.nx = coarse.nx;
-    scene_.caustics_water.ny = coarse.ny;
-    scene_.caustics_water.cell_size = static_cast<float>(coarse.cell_m);
-    scene_.caustics_water.change_counter = coarse.counter;
+    scene->caustics_water.heights = coarse.heights;
+    scene->caustics_water.nx = coarse.nx;
+    scene->caustics_water.ny = coarse.ny;
+    scene->caustics_water.cell_size = static_cast<float>(coarse.cell_m);
+    scene->caustics_water.change_counter = coarse.counter;
   }
 }
 
@@ -353,8 +366,10 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   const bench::Stopwatch frame_watch;
   report.times.cap = cap_ms;
 
-  // Tracking and water: done during the last frame, or now.
+  // Tracking and water (and with prepare_ahead the real objects and the
+  // caustics): done during the last frame, or now.
   std::optional<WaterStep> water_step;
+  std::optional<Prepared> prepared;
   if (next_tracking_) {
     RIPPLE_CHECK(next_data_ == bgr.data && next_time_s_ == time_s,
                  "Pipeline::Process: not the frame whose tracking was done");
@@ -362,41 +377,68 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     next_tracking_.reset();
     water_step = std::move(next_water_);
     next_water_.reset();
+    prepared = next_prepared_;
+    next_prepared_.reset();
   } else {
     report.tracking = tracker_->Track(bgr, time_s);
   }
   const tracking::FrameResult& tr = report.tracking;
   report.times.det = tr.timings.detect_ms;
   report.times.pose = tr.timings.pose_ms;
-
-  // Real objects in front of the tank, on the second core while the water
-  // advances and its caustics are traced (they share nothing: the plate
-  // reads the frame and the poses, the water the tip).
-  JoinedFuture<double> occ(occ_worker_.Run([&] {
-    const bench::Stopwatch occ_watch;
-    UpdateRealObjects(bgr, tr);
-    return occ_watch.ElapsedMs();
-  }));
-  if (!water_step) water_step = AdvanceWater(tr, time_s);
-  report.water = water_step->stats;
-  report.times.sim = water_step->ms;
   const bool draw = tr.tank.has_pose();
   double caustics_ahead_ms = 0;
-  if (draw) {
-    SetSceneWater(*water_step);
-    scene_.effects = options_.effects;
-    renderer_->UpdateCaustics(scene_, &caustics_ahead_ms);
+  report.prepared_ahead = prepared.has_value();
+  if (prepared) {
+    report.times.occ = prepared->occ_ms;
+    caustics_ahead_ms = prepared->caustics_ms;
+    scene_.occluders = prepared->real.occluders;
+    scene_.plate = prepared->real.plate;
+    // The effects may have changed since (live keys): the caustics are then
+    // traced again here; else this is a no-op.
+    if (draw) {
+      double again_ms = 0;
+      TraceCaustics(*water_step, &again_ms);
+      caustics_ahead_ms += again_ms;
+    }
+  } else {
+    // Real objects in front of the tank, on the second core while the water
+    // advances and its caustics are traced (they share nothing: the plate
+    // reads the frame and the poses, the water the tip).
+    RealViews real;
+    JoinedFuture<double> occ(occ_worker_.Run([&] {
+      const bench::Stopwatch occ_watch;
+      real = UpdateRealObjects(bgr, tr);
+      return occ_watch.ElapsedMs();
+    }));
+    if (!water_step) water_step = AdvanceWater(tr, time_s);
+    if (draw) TraceCaustics(*water_step, &caustics_ahead_ms);
+    report.times.occ = occ.get();
+    scene_.occluders = real.occluders;
+    scene_.plate = real.plate;
   }
-  report.times.occ = occ.get();
+  report.water = water_step->stats;
+  report.times.sim = water_step->ms;
+  if (draw) {
+    SetSceneWater(*water_step, &scene_);
+    scene_.effects = options_.effects;
+  }
   UpdateLight(bgr, tr, &report);
 
   // The next frame's tracking and water, on a worker thread beside this
   // frame's render (the tracker is this thread's no more until the job is
   // joined below). The water waits until the render has taken this
-  // frame's surface: Render copies the heights into GL and reads them no
-  // more once it returns. The latch is declared after the job so that it
-  // is released, on every way out, before the job is waited for.
-  JoinedFuture<std::pair<tracking::FrameResult, WaterStep>> next_job;
+  // frame's surface: Render copies the heights, the occluder mask and the
+  // plate into GL and then says so (before it draws), and reads them no
+  // more; the job may then also prepare the next frame's real objects and
+  // caustics, into those buffers and buffers of its own (it writes nothing
+  // of scene_). The latch is declared after the job so that it is
+  // released, on every way out, before the job is waited for.
+  struct NextFrame {
+    tracking::FrameResult tracking;
+    WaterStep water;
+    std::optional<Prepared> prepared;
+  };
+  JoinedFuture<NextFrame> next_job;
   std::promise<void> surface_taken;
   struct Release {
     std::promise<void>* promise;
@@ -410,13 +452,23 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   if (next != nullptr && !next->empty()) {
     next_data_ = next->data;
     next_time_s_ = next_time_s;
-    next_job = JoinedFuture<std::pair<tracking::FrameResult, WaterStep>>(
-        tracking_worker_.Run([this, next, next_time_s,
-                              taken = surface_taken.get_future()] {
-          tracking::FrameResult next_tr = tracker_->Track(*next, next_time_s);
+    const bool prepare = options_.prepare_ahead;
+    next_job = JoinedFuture<NextFrame>(tracking_worker_.Run(
+        [this, next, next_time_s, prepare, taken = surface_taken.get_future()] {
+          NextFrame out;
+          out.tracking = tracker_->Track(*next, next_time_s);
           taken.wait();
-          WaterStep step = AdvanceWater(next_tr, next_time_s);
-          return std::make_pair(std::move(next_tr), step);
+          out.water = AdvanceWater(out.tracking, next_time_s);
+          if (prepare) {
+            Prepared p;
+            const bench::Stopwatch occ_watch;
+            p.real = UpdateRealObjects(*next, out.tracking);
+            p.occ_ms = occ_watch.ElapsedMs();
+            if (out.tracking.tank.has_pose())
+              TraceCaustics(out.water, &p.caustics_ms);
+            out.prepared = p;
+          }
+          return out;
         }));
   }
 
@@ -429,7 +481,7 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
     if (scene_.pen_visible)
       scene_.tank_from_pen =
           ToGlm(tr.tank.cam_from_object->Inverse() * *tr.pen.cam_from_object);
-    renderer_->Render(scene_);
+    renderer_->Render(scene_, [&release_surface] { release_surface(); });
     release_surface();
     report.passes = renderer_->timings();
     report.rendered = true;
@@ -451,9 +503,10 @@ FrameReport Pipeline::Process(const cv::Mat& bgr, double time_s, double cap_ms,
   }
   release_surface();
   if (next_job.valid()) {
-    auto ahead = next_job.get();
-    next_tracking_ = std::move(ahead.first);
-    next_water_ = ahead.second;
+    NextFrame ahead = next_job.get();
+    next_tracking_ = std::move(ahead.tracking);
+    next_water_ = ahead.water;
+    next_prepared_ = ahead.prepared;
   }
   report.times.total = frame_watch.ElapsedMs();
   // Without overlap the frame's latency is its own time; with it, the

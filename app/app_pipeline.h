@@ -56,6 +56,13 @@ struct PipelineOptions {
   // (StageTimes::lat); live, where waiting for the camera's next frame
   // would add its period, keeps it off.
   bool overlap_tracking = true;
+  // With overlap, the next frame's real objects (the clean plate and the
+  // occluder mask) and its caustics are prepared on the worker too, after
+  // its water step, beside this frame's drawing: they then leave the start
+  // of that frame. The output is the same either way; measured faster at
+  // 640x480, 1280x720 and 1920x1080 (docs/render.md, "Two cores, four
+  // jobs").
+  bool prepare_ahead = true;
   // The detector's quad decimation grows with the frame's height
   // (QuadDecimateForHeight) above the tracker's own setting.
   bool decimate_by_resolution = true;
@@ -74,6 +81,9 @@ struct FrameReport {
   render::PassTimings passes;
   bench::StageTimes times;
   bool rendered = false;  // false when the tank was not seen: video only
+  // The real objects and the caustics were prepared during the last frame
+  // (PipelineOptions::prepare_ahead).
+  bool prepared_ahead = false;
 };
 
 // The renderer's occluder mask (render/scene.h, OccluderMaskView): the clean
@@ -157,10 +167,28 @@ class Pipeline {
   // Sets the pen from the frame's tracking and advances the water to
   // `time_s`.
   WaterStep AdvanceWater(const tracking::FrameResult& tracking, double time_s);
-  // Points the scene's surfaces at the water's current heights.
-  void SetSceneWater(const WaterStep& step);
+  // Points a scene's surfaces at the water's current heights.
+  void SetSceneWater(const WaterStep& step, render::SceneInputs* scene) const;
+  // The caustics traced for the water's current heights, scene_'s tank and
+  // light and the options' effects (Renderer::UpdateCaustics; no GL), in a
+  // scene of their own (caustics_scene_), with the CPU time in `ms` (0 when
+  // nothing changed).
+  void TraceCaustics(const WaterStep& step, double* ms);
+  render::SceneInputs caustics_scene_;
   // The next frame's water step, done with its tracking (next_tracking_).
   std::optional<WaterStep> next_water_;
+  // The next frame's real objects and caustics, when the job prepared them
+  // (PrepareAhead): their times, for its stage table.
+  struct RealViews {
+    render::OccluderMaskView occluders;
+    render::BoardPlateView plate;
+  };
+  struct Prepared {
+    RealViews real;
+    double occ_ms = 0;
+    double caustics_ms = 0;
+  };
+  std::optional<Prepared> next_prepared_;
   std::unique_ptr<render::Context> context_;
   std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<tracking::CleanPlate> plate_;
@@ -175,10 +203,11 @@ class Pipeline {
   int frames_since_light_job_ = 0;
   void UpdateLight(const cv::Mat& bgr, const tracking::FrameResult& tracking,
                    FrameReport* report);
-  // Runs the clean plate on this frame and fills the scene's occluder mask
-  // and plate (cleared when the plate is off or the tank not seen).
-  void UpdateRealObjects(const cv::Mat& bgr,
-                         const tracking::FrameResult& tracking);
+  // Runs the clean plate on this frame and returns the views of its
+  // occluder mask and plate for the scene (empty when the plate is off or
+  // the tank not seen); writes nothing of scene_.
+  RealViews UpdateRealObjects(const cv::Mat& bgr,
+                              const tracking::FrameResult& tracking);
   std::vector<sim::Obstacle> sim_obstacles_;
   // Parallel to sim_obstacles_: how each is drawn (nullopt: not drawn, as
   // voxel volumes and removed obstacles).

@@ -112,8 +112,10 @@ int RunDemo(DemoArgs args) {
   bench::StageTable active, idle;
   Eigen::Vector3d last_light = Eigen::Vector3d::UnitZ();
   bool light_from_shadow = false, light_fixed = false;
+  int prepared[2] = {0, 0};  // active, idle
   FunctionSink tables([&](const LoopFrame& f, LoopStop*) {
     (f.index >= args.frames ? idle : active).Add(f.report->times);
+    prepared[f.index >= args.frames] += f.report->prepared_ahead;
     last_light = f.report->light_in_tank;
     light_from_shadow = f.report->light_from_shadow;
     light_fixed = f.report->light_fixed;
@@ -147,6 +149,12 @@ int RunDemo(DemoArgs args) {
   std::fprintf(stderr, "\n");
   std::printf("%s", active.Format("active: pen in the water").c_str());
   std::printf("%s", idle.Format("idle: water at rest, pen away").c_str());
+  // Where occ and caustics ran: at the frame's start, or prepared beside
+  // the last frame's render (PipelineOptions::prepare_ahead).
+  std::printf(
+      "real objects and caustics prepared during the frame before: %d of %d "
+      "active, %d of %d idle frames\n",
+      prepared[0], args.frames, prepared[1], args.idle_frames);
   auto degrees = [](const Eigen::Vector3d& l) {
     const Eigen::Vector3d u = l.normalized();
     return Eigen::Vector2d(

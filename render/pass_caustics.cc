@@ -26,9 +26,11 @@ void CausticsPass::Create(const Options& options) {
   AllocTexture(&texture_, GL_R32F, c, c, GL_RED, GL_FLOAT, GL_LINEAR,
                GL_CLAMP_TO_EDGE, map_.data());
   key_.reset();
+  uploaded_ = true;
 }
 
-bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
+bool CausticsPass::Trace(const SceneInputs& scene, double* ms) {
+  *ms = 0;
   const CausticsKey key = CausticsKey::Of(scene);
   if (key_ && key_->Same(key)) return false;
   const auto t0 = std::chrono::steady_clock::now();
@@ -44,15 +46,24 @@ bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
                                        : scene.water;
   ComputeCaustics(co, surface, scene.tank, key.light, &map_, nullptr,
                   &workspace_);
-  glBindTexture(GL_TEXTURE_2D, texture_.id());
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-  glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, co.map_nx, co.map_ny, GL_RED,
-                  GL_FLOAT, map_.data());
   key_ = key;
+  uploaded_ = false;
   *ms = std::chrono::duration<double, std::milli>(
             std::chrono::steady_clock::now() - t0)
             .count();
   return true;
+}
+
+bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
+  const bool traced = Trace(scene, ms);
+  if (!uploaded_) {
+    glBindTexture(GL_TEXTURE_2D, texture_.id());
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, options_.map_size,
+                    options_.map_size, GL_RED, GL_FLOAT, map_.data());
+    uploaded_ = true;
+  }
+  return traced;
 }
 
 }  // namespace ripple::render::internal

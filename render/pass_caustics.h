@@ -40,8 +40,12 @@ class CausticsPass {
   };
   void Create(const Options& options);
 
-  // Recomputes and uploads the map if its key changed; true if it did, with
-  // the CPU time in `ms`.
+  // Recomputes the map on the CPU if its key changed since it was last
+  // computed; true if it did, with the CPU time in `ms`. No GL: it may run
+  // on another thread while the GL thread does not call Update.
+  bool Trace(const SceneInputs& scene, double* ms);
+  // Trace, then uploads a map not uploaded yet (GL thread); true if it
+  // traced.
   bool Update(const SceneInputs& scene, double* ms);
   GLuint texture() const { return texture_.id(); }
 
@@ -50,7 +54,8 @@ class CausticsPass {
   Texture texture_;
   std::vector<float> map_;
   CausticsWorkspace workspace_;
-  std::optional<CausticsKey> key_;
+  std::optional<CausticsKey> key_;  // of map_
+  bool uploaded_ = false;           // map_ is in texture_
 };
 
 }  // namespace ripple::render::internal

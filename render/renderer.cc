@@ -340,7 +340,8 @@ glm::dmat4 Renderer::ClipFromTank(const glm::dmat4& cam_from_tank) const {
   return ClipFromCam(impl_->k) * cam_from_tank;
 }
 
-bool Renderer::Render(const SceneInputs& scene) {
+bool Renderer::Render(const SceneInputs& scene,
+                      const std::function<void()>& inputs_copied) {
   Impl& m = *impl_;
   const Effects& fx = scene.effects;
   const auto t_start = Clock::now();
@@ -372,7 +373,9 @@ bool Renderer::Render(const SceneInputs& scene) {
     m.timings.shadow_redrawn = true;
   }
   f.shadow = m.shadow.transform();
-  m.timings.caustics_recomputed = UpdateCaustics(scene, &m.timings.caustics_ms);
+  m.timings.caustics_recomputed =
+      fx.caustics && m.caustics.Update(scene, &m.timings.caustics_ms);
+  if (inputs_copied) inputs_copied();
 
   // The environment cube map, only when the frame changed enough. From the
   // quarter-size map, which Upload made from this frame (without lens
@@ -422,7 +425,7 @@ bool Renderer::Render(const SceneInputs& scene) {
 
 bool Renderer::UpdateCaustics(const SceneInputs& scene, double* ms) {
   *ms = 0;
-  return scene.effects.caustics && impl_->caustics.Update(scene, ms);
+  return scene.effects.caustics && impl_->caustics.Trace(scene, ms);
 }
 
 bool Renderer::RenderVideoOnly(const VideoFrame& video) {

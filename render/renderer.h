@@ -33,6 +33,7 @@
 #define RIPPLE_RENDER_RENDERER_H_
 
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <memory>
 #include <optional>
@@ -257,12 +258,20 @@ class Renderer {
 
   // Draws one frame into the renderer's FBO. False (with a message on
   // stderr, in every build type) if GL reported an error.
-  bool Render(const SceneInputs& scene);
+  // `inputs_copied`, when given, is called once, before the drawing, when
+  // Render has copied what the scene's buffers hold (the heights, the
+  // occluder mask, the plate) into GL and traced the caustics: from then on
+  // the caller may write into those buffers on other threads while the
+  // frame is drawn (not into `scene` itself, nor the video).
+  bool Render(const SceneInputs& scene,
+              const std::function<void()>& inputs_copied = nullptr);
 
   // Recomputes the caustics map for `scene`'s water, light and tank if they
   // changed since it was last computed: the CPU part of Render's caustics,
-  // which Render then finds up to date. A caller may run it first, beside
-  // work of its own on other threads. True if it was recomputed, with its
+  // which Render then finds up to date (it uploads the map). A caller may
+  // run it first, beside work of its own on other threads; it makes no GL
+  // call, so it may also run on a thread other than the GL thread while no
+  // other Renderer call is in flight. True if it was recomputed, with its
   // CPU time in `ms`; false without scene.effects.caustics.
   bool UpdateCaustics(const SceneInputs& scene, double* ms);
 

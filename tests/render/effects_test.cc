@@ -451,6 +451,55 @@ TEST(EffectsTest, CausticsTracedAheadAreTheOnesRenderDraws) {
   EXPECT_EQ(ms, 0.0);
 }
 
+// Render says when it has copied what the scene's buffers hold, once and
+// before it draws: what a caller writes into the heights, the occluder mask
+// and the plate from then on (a worker preparing the next frame) leaves
+// the frame as it would have been; the next frame does read them.
+TEST(EffectsTest, BuffersWrittenOnceInputsAreCopiedLeaveTheFrameAlone) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = MakeScene(kW, kH, View::kFront, true);
+  s.inputs.effects.caustics = true;
+  std::vector<std::uint8_t> mask(kW * kH, 0);
+  const glm::ivec4 window(kW / 3, kH / 2, kW / 4, kH / 6);
+  for (int y = window.y; y < window.y + window.w; ++y)
+    for (int x = window.x; x < window.x + window.z; ++x) mask[y * kW + x] = 255;
+  s.inputs.occluders = {mask.data(), kW, kH, kW, window};
+  const int n = 300;
+  std::vector<std::uint8_t> plate(4 * n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      std::uint8_t* t = &plate[4 * (j * n + i)];
+      t[0] = (i / 6 + j / 6) % 2 ? 40 : 200;
+      t[1] = 60;
+      t[2] = 120;
+      t[3] = 255;
+    }
+  }
+  s.inputs.plate = {plate.data(), n, n, 4 * n, {-0.15, -0.15}, 0.001, 1.0f, 1};
+  auto plain = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  auto told = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(plain, nullptr);
+  ASSERT_NE(told, nullptr);
+  const cv::Mat expected = RenderScene(plain.get(), s.inputs);
+  int calls = 0;
+  auto scribble = [&] {
+    ++calls;
+    for (float& h : s.heights) h = 0.004f - h;
+    std::fill(mask.begin(), mask.end(), 0);
+    for (size_t i = 0; i < plate.size(); ++i)
+      plate[i] = i % 4 == 3 ? 255 : static_cast<std::uint8_t>(255 - plate[i]);
+  };
+  ASSERT_TRUE(told->Render(s.inputs, scribble));
+  cv::Mat out(kH, kW, CV_8UC3);
+  ASSERT_TRUE(told->ReadBgr(out.data, static_cast<int>(out.step)));
+  EXPECT_EQ(calls, 1);
+  EXPECT_EQ(cv::norm(out, expected, cv::NORM_INF), 0.0);
+  // The scribbles are what the next frame shows.
+  s.inputs.water.change_counter++;
+  s.inputs.plate.change_counter++;
+  EXPECT_GT(MeanDiff(RenderScene(told.get(), s.inputs), expected), 0.5);
+}
+
 // Without a height field the water is flat, and under a vertical light flat
 // water's caustics map is uniform 1 (no strip along the walls, no light
 // through them): turning caustics on must not change the floor.

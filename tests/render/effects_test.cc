@@ -58,6 +58,34 @@ TestScene SceneWithOccluders(View view) {
   return s;
 }
 
+// A hand-sized occluder over `window` of the image and a striped plate of
+// the board (300 x 300 texels of 1 mm from (-0.15, -0.15) m), which the
+// refraction reads behind it; the buffers are the caller's.
+struct RealObjectBuffers {
+  std::vector<std::uint8_t> mask, plate;
+};
+void AddOccluderAndPlate(const glm::ivec4& window, RealObjectBuffers* b,
+                         SceneInputs* in) {
+  b->mask.assign(kW * kH, 0);
+  for (int y = window.y; y < window.y + window.w; ++y)
+    for (int x = window.x; x < window.x + window.z; ++x)
+      b->mask[y * kW + x] = 255;
+  in->occluders = {b->mask.data(), kW, kH, kW, window};
+  const int n = 300;
+  b->plate.resize(4 * n * n);
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      std::uint8_t* t = &b->plate[4 * (j * n + i)];
+      const bool stripe = (i / 6 + j / 6) % 2 == 0;
+      t[0] = stripe ? 40 : 200;
+      t[1] = 60;
+      t[2] = stripe ? 220 : 30;
+      t[3] = 255;
+    }
+  }
+  in->plate = {b->plate.data(), n, n, 4 * n, {-0.15, -0.15}, 0.001, 1.0f, 1};
+}
+
 TEST(EffectsTest, ShadowOnAndOff) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = SceneWithOccluders(View::kFront);
@@ -160,26 +188,9 @@ TEST(EffectsTest, WaterRegionsLeaveTheImageUnchanged) {
                         s.inputs.pen, &s.video);
       // A hand-sized occluder over part of the tank, and a striped plate
       // of the board that the refraction reads behind it.
-      std::vector<std::uint8_t> mask(kW * kH, 0);
-      const glm::ivec4 window(kW / 2, kH / 2, kW / 6, kH / 8);
-      for (int y = window.y; y < window.y + window.w; ++y)
-        for (int x = window.x; x < window.x + window.z; ++x)
-          mask[y * kW + x] = 255;
-      s.inputs.occluders = {mask.data(), kW, kH, kW, window};
-      const int n = 300;
-      std::vector<std::uint8_t> plate(4 * n * n);
-      for (int j = 0; j < n; ++j) {
-        for (int i = 0; i < n; ++i) {
-          std::uint8_t* t = &plate[4 * (j * n + i)];
-          const bool stripe = (i / 6 + j / 6) % 2 == 0;
-          t[0] = stripe ? 40 : 200;
-          t[1] = 60;
-          t[2] = stripe ? 220 : 30;
-          t[3] = 255;
-        }
-      }
-      s.inputs.plate = {plate.data(),   n,     n,    4 * n,
-                        {-0.15, -0.15}, 0.001, 1.0f, 1};
+      RealObjectBuffers real;
+      AddOccluderAndPlate(glm::ivec4(kW / 2, kH / 2, kW / 6, kH / 8), &real,
+                          &s.inputs);
       auto a = Renderer::TryCreate(ctx.get(), s.k, split, nullptr);
       auto b = Renderer::TryCreate(ctx.get(), s.k, every, nullptr);
       ASSERT_NE(a, nullptr);
@@ -459,23 +470,11 @@ TEST(EffectsTest, BuffersWrittenOnceInputsAreCopiedLeaveTheFrameAlone) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = MakeScene(kW, kH, View::kFront, true);
   s.inputs.effects.caustics = true;
-  std::vector<std::uint8_t> mask(kW * kH, 0);
-  const glm::ivec4 window(kW / 3, kH / 2, kW / 4, kH / 6);
-  for (int y = window.y; y < window.y + window.w; ++y)
-    for (int x = window.x; x < window.x + window.z; ++x) mask[y * kW + x] = 255;
-  s.inputs.occluders = {mask.data(), kW, kH, kW, window};
-  const int n = 300;
-  std::vector<std::uint8_t> plate(4 * n * n);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      std::uint8_t* t = &plate[4 * (j * n + i)];
-      t[0] = (i / 6 + j / 6) % 2 ? 40 : 200;
-      t[1] = 60;
-      t[2] = 120;
-      t[3] = 255;
-    }
-  }
-  s.inputs.plate = {plate.data(), n, n, 4 * n, {-0.15, -0.15}, 0.001, 1.0f, 1};
+  RealObjectBuffers real;
+  AddOccluderAndPlate(glm::ivec4(kW / 3, kH / 2, kW / 4, kH / 6), &real,
+                      &s.inputs);
+  std::vector<std::uint8_t>& mask = real.mask;
+  std::vector<std::uint8_t>& plate = real.plate;
   auto plain = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
   auto told = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
   ASSERT_NE(plain, nullptr);

@@ -171,6 +171,54 @@ bool WaterOptics::IsValid(std::string* error) const {
   return true;
 }
 
+double UnderGlassDirectLight(const WaterOptics& o, const glm::dvec3& light,
+                             const glm::dvec3& outward, double depth_m) {
+  const double nw = o.ior, ng = o.glass_ior, g = o.glass_thickness_m;
+  const double cos_l = std::max(light.z, 1e-3);
+  double e = 1.0 - FresnelReflectance(cos_l, 1.0, ng);  // the top face
+  if (!(g > 0.0)) return e;
+  // A beam travelling along `d` (unit, downwards) enters the slab through a
+  // face whose normal towards the glass is `into` (index n1 to ng): its
+  // direction in the glass keeps the tangential part times n1 / ng. The
+  // height it descends while it crosses the slab's thickness once.
+  auto descent = [&](const glm::dvec3& d, const glm::dvec3& into, double n1,
+                     double* sin_g) {
+    const glm::dvec3 tangent = (d - glm::dot(d, into) * into) * (n1 / ng);
+    *sin_g = glm::length(tangent);
+    const double cos_g = std::sqrt(std::max(1.0 - *sin_g * *sin_g, 1e-12));
+    return g * std::abs(tangent.z) / cos_g;
+  };
+  // From the water: the beam refracted at the flat surface.
+  const glm::dvec3 t_air = -light;
+  const glm::dvec3 tangent_w = glm::dvec3(t_air.x, t_air.y, 0.0) / nw;
+  const glm::dvec3 dw(
+      tangent_w.x, tangent_w.y,
+      -std::sqrt(std::max(1.0 - glm::dot(tangent_w, tangent_w), 0.0)));
+  const double c_in = glm::dot(dw, outward);  // > 0: towards this wall
+  if (c_in > 0.0 && depth_m > 0.0) {
+    double sin_g = 0;
+    const double reach = descent(dw, outward, nw, &sin_g);
+    // At the outer face: totally reflected beyond the critical angle.
+    const double cos_g = std::sqrt(std::max(1.0 - sin_g * sin_g, 0.0));
+    const double r_out = FresnelReflectance(cos_g, ng, 1.0);
+    const double height =
+        std::min(depth_m, reach) +
+        r_out * std::max(0.0, std::min(depth_m, 2.0 * reach) - reach);
+    const double per_wall_area = (1.0 - FresnelReflectance(cos_l, 1.0, nw)) *
+                                 c_in / std::max(-dw.z, 1e-3) *
+                                 (1.0 - FresnelReflectance(c_in, nw, ng));
+    e += per_wall_area * height / g;
+  }
+  // From outside: the light falling on the outer face.
+  const double c_out = glm::dot(light, outward);
+  if (c_out > 0.0) {
+    double sin_g = 0;
+    const double reach = descent(t_air, -outward, 1.0, &sin_g);
+    e += c_out / cos_l * (1.0 - FresnelReflectance(c_out, 1.0, ng)) * reach / g;
+  }
+  return e;
+}
+
 WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
                                  const glm::dvec3& light_in_tank) {
   WaterShading s;
@@ -190,13 +238,17 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   s.glass_transmittance =
       static_cast<float>((1.0 - FresnelReflectance(1.0, 1.0, o.glass_ior)) *
                          (1.0 - FresnelReflectance(1.0, o.glass_ior, o.ior)));
-  const double top_t = 1.0 - FresnelReflectance(cos_l, 1.0, o.glass_ior);
   const double inner_t = 1.0 - FresnelReflectance(1.0, o.glass_ior, o.ior);
   const double ng2 = double(o.glass_ior) * o.glass_ior;
-  for (int c = 0; c < 3; ++c) {
-    s.under_glass[c] = static_cast<float>(
-        (a * o.sky_tint[c] + (1.0 - a) * o.sun_tint[c] * top_t / ng2) *
-        inner_t);
+  const glm::dvec3 l = len > 0 ? light_in_tank / len : glm::dvec3(0, 0, 1);
+  const glm::dvec3 outward[4] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  for (int w = 0; w < 4; ++w) {
+    const double direct = UnderGlassDirectLight(o, l, outward[w], d);
+    for (int c = 0; c < 3; ++c) {
+      s.under_glass[w][c] = static_cast<float>(
+          (a * o.sky_tint[c] + (1.0 - a) * o.sun_tint[c] * direct / ng2) *
+          inner_t);
+    }
   }
   const double alpha = o.light_angular_radius_rad;
   s.inv_alpha2 = static_cast<float>(1.0 / (alpha * alpha));

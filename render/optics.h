@@ -142,16 +142,16 @@ struct WaterShading {
   // video shows beyond it, times the glass's two interfaces at normal
   // incidence.
   float glass_transmittance = 1;
-  // The board under a glass wall, seen from inside the water through the
-  // wall's inner face (a ray the outer face reflects totally reaches it),
-  // relative to the dry board the video shows, per band. The sky's share
-  // keeps its light: the glass around the point fills its hemisphere with
-  // n_g^2 times the surroundings' radiance, and the way out divides by
-  // n_g^2. The direct light is collimated: it enters through the wall's top
-  // face (Fresnel at the light's incidence) and is guided down by total
-  // internal reflection with no n_g^2 gain, so it leaves divided by n_g^2.
-  // Times the glass-water interface at normal incidence on the way out.
-  glm::vec3 under_glass{1.0f};
+  // The board under each glass wall (+x, -x, +y, -y), seen from inside the
+  // water through the wall's inner face (a ray the outer face reflects
+  // totally reaches it), relative to the dry board the video shows, per
+  // band. The sky's share keeps its light: the glass around the point fills
+  // its hemisphere with n_g^2 times the surroundings' radiance, and the way
+  // out divides by n_g^2. The direct light is collimated, so it gains no
+  // n_g^2 and leaves divided by it (UnderGlassDirectLight). Times the
+  // glass-water interface at normal incidence on the way out.
+  glm::vec3 under_glass[4] = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f),
+                              glm::vec3(1.0f)};
   // Glint radiance per unit Fresnel at the centre of the light's disc:
   // (1 - a) / (cos_l alpha^2), the disc's radiance with its energy spread
   // as exp(-theta^2 / alpha^2) / (pi alpha^2) around the light.
@@ -160,6 +160,19 @@ struct WaterShading {
 };
 WaterShading ComputeWaterShading(const WaterOptics& optics, double depth_m,
                                  const glm::dvec3& light_in_tank);
+
+// The direct light on the board under a glass side wall (`outward` its
+// outward unit normal, horizontal), per unit of the light's irradiance on
+// the open board, for a tank filled `depth_m` deep and the light towards
+// `light` (unit, z > 0). Three ways in, each spread over the slab's
+// thickness: through the wall's top face (Fresnel at the light's incidence;
+// total internal reflection guides it down); from the water, the refracted
+// beam that meets the inner face low enough to reach the board inside the
+// slab, directly or after the outer face's reflection (total beyond the
+// critical angle); and from outside, the beam that meets the outer face low
+// enough. Beer-Lambert and the floor's caustics are left out.
+double UnderGlassDirectLight(const WaterOptics& optics, const glm::dvec3& light,
+                             const glm::dvec3& outward, double depth_m);
 
 // The share of a floor point's (Lambertian) light that the water sends back
 // onto the floor, per band, in the tank's box: rays leave the floor

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "render/camera.h"
@@ -32,7 +33,10 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->floor_sun = p.Uniform("u_floor_sun");
   s->inv_n2 = p.Uniform("u_inv_n2");
   s->glass_t = p.Uniform("u_glass_t");
-  s->under_glass = p.Uniform("u_under_glass");
+  for (int w = 0; w < 4; ++w) {
+    const std::string name = "u_under_glass[" + std::to_string(w) + "]";
+    s->under_glass[w] = p.Uniform(name.c_str());
+  }
   s->glint_peak = p.Uniform("u_glint_peak");
   s->return_tint = p.Uniform("u_return_tint");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
@@ -243,7 +247,7 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   SetUniform(s.floor_sun, w.floor_sun);
   glUniform1f(s.inv_n2, w.inv_n2);
   glUniform1f(s.glass_t, w.glass_transmittance);
-  SetUniform(s.under_glass, w.under_glass);
+  for (int i = 0; i < 4; ++i) SetUniform(s.under_glass[i], w.under_glass[i]);
   glUniform1f(s.glint_peak, w.glint_peak);
   glUniform1f(s.inv_alpha2, w.inv_alpha2);
   SetUniform(s.return_tint, return_tint_);

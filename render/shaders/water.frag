@@ -53,7 +53,8 @@ uniform sampler2D u_floor_return;
 uniform vec3 u_return_tint;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
-uniform vec3 u_under_glass;      // the board under a wall, over the dry board
+uniform vec3 u_under_glass[4];   // the board under each wall (+x, -x, +y,
+                                 // -y), over the dry board
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
@@ -241,8 +242,12 @@ void main() {
   // board under the glass is lit through the glass (optics.h, under_glass).
   vec3 beyond_light =
       (out_dir.z < -1e-5 ? video : vec3(u_ambient)) * u_glass_t;
+  vec3 board_under = wall_n.x < -0.5  ? u_under_glass[0]
+                    : wall_n.x > 0.5 ? u_under_glass[1]
+                    : wall_n.y < -0.5 ? u_under_glass[2]
+                                      : u_under_glass[3];
   vec3 below = floor_seen ? under
-                          : (under_glass ? video * u_under_glass : beyond_light);
+                          : (under_glass ? video * board_under : beyond_light);
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

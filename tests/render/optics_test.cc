@@ -148,37 +148,97 @@ TEST(OpticsTest, WaterShadingConstants) {
 // The board under a glass wall, seen through the wall from inside the
 // water: the sky's share keeps its light (the n_g^2 of the glass's filled
 // hemisphere cancels on the way out), the collimated direct light loses
-// the top face's Fresnel and n_g^2; both cross the glass-water interface.
-// Normal-incidence Fresnel written out: ((n1 - n2) / (n1 + n2))^2.
+// n_g^2; both cross the glass-water interface. Under a vertical light only
+// the top face lets the light in. Normal-incidence Fresnel written out:
+// ((n1 - n2) / (n1 + n2))^2.
 TEST(OpticsTest, BoardUnderGlassKeepsTheSkyAndLosesNSquaredOfTheDirectLight) {
   WaterOptics o = WaterOptics::ForLook(WaterLook::kClear);
   const double inner = 1.0 - std::pow((1.5 - 1.333) / (1.5 + 1.333), 2.0);
   const double top = 1.0 - std::pow(0.5 / 2.5, 2.0);
   o.ambient_share = 1.0f;
   WaterShading s = ComputeWaterShading(o, 0.025, glm::dvec3(0.3, 0.2, 1.0));
-  for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.under_glass[c], inner, 1e-6);
+  for (int w = 0; w < 4; ++w)
+    for (int c = 0; c < 3; ++c) EXPECT_NEAR(s.under_glass[w][c], inner, 1e-6);
   o.ambient_share = 0.0f;
   s = ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
-  for (int c = 0; c < 3; ++c)
-    EXPECT_NEAR(s.under_glass[c], top * inner / 2.25, 1e-6);
-  // The default room light: between the two, and darker at a lower light
-  // (more of it reflected by the top face).
-  o.ambient_share = 0.3f;
-  const WaterShading high =
-      ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
-  const WaterShading low =
-      ComputeWaterShading(o, 0.025, glm::dvec3(1.0, 0.0, 0.3));
-  EXPECT_NEAR(high.under_glass.g, (0.3 + 0.7 * top / 2.25) * inner, 1e-6);
-  EXPECT_LT(low.under_glass.g, high.under_glass.g);
+  for (int w = 0; w < 4; ++w)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(s.under_glass[w][c], top * inner / 2.25, 1e-6);
   // Daylight tints weigh the two shares per band.
+  o.ambient_share = 0.3f;
   o.sky_tint = glm::vec3(1.4f, 1.0f, 0.6f);
   o.sun_tint = (glm::vec3(1.0f) - 0.3f * o.sky_tint) / 0.7f;
   s = ComputeWaterShading(o, 0.025, glm::dvec3(0.0, 0.0, 1.0));
   for (int c = 0; c < 3; ++c) {
     EXPECT_NEAR(
-        s.under_glass[c],
+        s.under_glass[0][c],
         (0.3 * o.sky_tint[c] + 0.7 * o.sun_tint[c] * top / 2.25) * inner, 1e-6);
   }
+}
+
+// The direct light under a wall, against parallel rays marched through the
+// slab (a cross-section normal to the wall): rays entering the inner face
+// from the water at evenly spaced heights, or the outer face from outside,
+// each counted when it reaches the board inside the glass, on its way in
+// or after the outer face's reflection.
+TEST(OpticsTest, UnderGlassDirectLightMatchesRaysMarchedThroughTheSlab) {
+  const WaterOptics o = WaterOptics::ForLook(WaterLook::kClear);
+  const double nw = o.ior, ng = o.glass_ior, g = o.glass_thickness_m;
+  const double depth = 0.025;
+  const glm::dvec3 light = glm::normalize(glm::dvec3(0.6, 0.1, 0.8));
+  const double top = 1.0 - FresnelReflectance(light.z, 1.0, ng);
+  // Marches a ray entering a face at height z0 with direction `t` in the
+  // glass (its component across the slab is |t.x|): the share of it that
+  // reaches z = 0 inside the slab.
+  auto reaches = [&](double z0, glm::dvec3 t, double weight, bool reflect) {
+    const double drop = g * std::abs(t.z) / std::abs(t.x);
+    if (z0 <= drop) return weight;
+    if (!reflect) return 0.0;
+    const double cos_g = std::abs(t.x);
+    const double sin_g = std::sqrt(1.0 - cos_g * cos_g);
+    const double r =
+        ng * sin_g >= 1.0 ? 1.0 : FresnelReflectance(cos_g, ng, 1.0);
+    return z0 <= 2.0 * drop ? weight * r : 0.0;
+  };
+  const int n = 20000;
+  // The -x wall, met by the refracted beam in the water.
+  const glm::dvec3 dw = glm::refract(-light, glm::dvec3(0, 0, 1), 1.0 / nw);
+  const glm::dvec3 into_glass(1.0, 0.0, 0.0);  // the inner face's normal
+  const glm::dvec3 tg = glm::refract(dw, into_glass, nw / ng);
+  ASSERT_GT(glm::length(tg), 0.5);
+  const double c_in = -dw.x;
+  const double t_in = 1.0 - FresnelReflectance(c_in, nw, ng);
+  double flux = 0;  // per unit of the wall's irradiance, per metre of wall
+  for (int i = 0; i < n; ++i) {
+    const double z0 = (i + 0.5) / n * depth;
+    flux += reaches(z0, tg, t_in, true) * depth / n;
+  }
+  const double per_wall =
+      (1.0 - FresnelReflectance(light.z, 1.0, nw)) * c_in / -dw.z;
+  EXPECT_NEAR(UnderGlassDirectLight(o, light, {-1, 0, 0}, depth),
+              top + per_wall * flux / g, 2e-3);
+  // The +x wall, met from outside (its outer face looks at the light).
+  const glm::dvec3 to = glm::refract(-light, glm::dvec3(1, 0, 0), 1.0 / ng);
+  const double c_out = light.x;
+  const double t_out = 1.0 - FresnelReflectance(c_out, 1.0, ng);
+  flux = 0;
+  const double wall = 0.04;
+  for (int i = 0; i < n; ++i) {
+    const double z0 = (i + 0.5) / n * wall;
+    flux += reaches(z0, to, t_out, false) * wall / n;
+  }
+  EXPECT_NEAR(UnderGlassDirectLight(o, light, {1, 0, 0}, depth),
+              top + c_out / light.z * flux / g, 2e-3);
+  // The walls along x see neither beam: the top face alone (the light's y
+  // is small but not zero: the -y wall's inner face and the +y wall's
+  // outer face take a little).
+  EXPECT_GT(UnderGlassDirectLight(o, light, {0, -1, 0}, depth), top);
+  EXPECT_GT(UnderGlassDirectLight(o, light, {0, 1, 0}, depth), top);
+  EXPECT_LT(UnderGlassDirectLight(o, light, {0, -1, 0}, depth),
+            UnderGlassDirectLight(o, light, {-1, 0, 0}, depth));
+  // A shallower tank lets in less through the inner face.
+  EXPECT_LT(UnderGlassDirectLight(o, light, {-1, 0, 0}, 0.004),
+            UnderGlassDirectLight(o, light, {-1, 0, 0}, depth));
 }
 
 // The floor's light that comes back to it: in a wide layer without

@@ -53,8 +53,8 @@ uniform sampler2D u_floor_return;
 uniform vec3 u_return_tint;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
-uniform vec3 u_under_glass[4];   // the board under each wall (+x, -x, +y,
-                                 // -y), over the dry board
+uniform vec3 u_under_glass[4];   // the board under a wall, over the dry
+                                 // board: basis over the wall's normal
 uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
@@ -238,16 +238,16 @@ void main() {
                        (1.0 - returned * min(video, vec3(0.95))),
                    video, obstacle) *
                u_inv_n2;
-  // Out through a wall: the board beyond it (the video) or the sky; the
-  // board under the glass is lit through the glass (optics.h, under_glass).
-  vec3 beyond_light =
-      (out_dir.z < -1e-5 ? video : vec3(u_ambient)) * u_glass_t;
-  vec3 board_under = wall_n.x < -0.5  ? u_under_glass[0]
-                    : wall_n.x > 0.5 ? u_under_glass[1]
-                    : wall_n.y < -0.5 ? u_under_glass[2]
-                                      : u_under_glass[3];
-  vec3 below = floor_seen ? under
-                          : (under_glass ? video * board_under : beyond_light);
+  // Out through a wall: the board beyond it (the video) or the sky, through
+  // the glass; the board under the glass, lit through it (optics.h,
+  // under_glass: per wall, from the basis that pass_water.cc makes of it).
+  vec3 board_under = u_under_glass[0] + wall_n.x * u_under_glass[1] +
+                     wall_n.y * u_under_glass[2] +
+                     abs(wall_n.x) * u_under_glass[3];
+  vec3 seen_out = out_dir.z < -1e-5 || under_glass ? video : vec3(u_ambient);
+  vec3 below =
+      floor_seen ? under
+                 : seen_out * (under_glass ? board_under : vec3(u_glass_t));
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

@@ -178,7 +178,8 @@ class Pipeline {
   // The next frame's water step, done with its tracking (next_tracking_).
   std::optional<WaterStep> next_water_;
   // The next frame's real objects and caustics, when the job prepared them
-  // (PrepareAhead): their times, for its stage table.
+  // (prepare_ahead): the clean plate's views, and their times for the
+  // stage table.
   struct RealViews {
     render::OccluderMaskView occluders;
     render::BoardPlateView plate;

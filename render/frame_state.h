@@ -74,6 +74,28 @@ struct GroundRadiance {
 };
 
 // Per-frame values, computed once by the renderer.
+// What the floor's light under water needs of the water pass's floor-return
+// map (optics.h, FloorReturnMap) beyond its texels: the return's ratio of
+// the bands to green, and the map's means over the floor (the
+// surroundings' light, rgb, and the green return share).
+struct FloorReturnLight {
+  glm::vec3 tint{1.0f};
+  glm::vec3 mean_surround{0.0f};
+  float mean_return = 0.0f;
+};
+
+// The floor's mean light under water, relative to the dry board: the sky
+// and the direct light through the surface, the caustics and shadows taken
+// at their mean, 1 (caustics move the light, they add none), and the
+// surroundings' mean. The surface's return to a point comes from the floor
+// around it (a totally reflected ray lands two depths times the critical
+// angle's tangent away or more), lit as this mean, not as the point
+// (water.frag, walls.frag).
+inline glm::vec3 FloorMeanLight(const WaterShading& s,
+                                const FloorReturnLight& r) {
+  return s.floor_sky + s.floor_sun + r.mean_surround;
+}
+
 struct FrameState {
   const SceneInputs* scene = nullptr;
   const Intrinsics* k = nullptr;

@@ -128,12 +128,16 @@ glm::vec3 DaylightSkyRadiance(const Daylight& daylight,
 // vectors), for a tank of rest depth `depth_m` under a light towards
 // `light_in_tank` (z > 0, normalised inside). The shader combines, for a
 // floor point of video colour V seen through the surface:
-//   V * (floor_sky + floor_sun * caustics * shadow) / (1 - V * R) / n^2,
+//   V * (E + R * V * E_mean / (1 - R_mean * V)) / n^2,
+//   E = floor_sky + floor_sun * caustics * shadow (+ the surroundings),
 // i.e. the sky and the direct light reaching the floor through the flat
 // surface (relative to the dry board), the floor<->surface inter-reflection
-// (total internal reflection sends light back onto the floor) and radiance's
-// 1/n^2 on leaving the water; then Beer-Lambert along the view path and
-// Fresnel against the reflection.
+// (total internal reflection sends light back onto the floor, from two
+// depths times the critical angle's tangent away or more, so from the floor
+// around, lit as the floor's mean E_mean: render/frame_state.h,
+// FloorMeanLight; on a uniformly lit floor this is V E / (1 - R V)) and
+// radiance's 1/n^2 on leaving the water; then Beer-Lambert along the view
+// path and Fresnel against the reflection.
 struct WaterShading {
   glm::vec3 floor_sky{0.0f};  // a * sky_tint * SkyTransmittance per band
   glm::vec3 floor_sun{0.0f};  // (1 - a) * sun_tint * DirectTransmittance

@@ -42,13 +42,15 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
     z_range_[i] = programs_[i].Uniform("u_z_range");
     return_tint_[i] = programs_[i].Uniform("u_return_tint");
+    floor_mean_[i] = programs_[i].Uniform("u_floor_mean");
+    return_mean_[i] = programs_[i].Uniform("u_return_mean");
     board_mirror_[i] = programs_[i].Uniform("u_board_mirror");
   }
   return true;
 }
 
 void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
-                     const glm::vec3& return_tint, bool board_mirror) {
+                     const FloorReturnLight& floor_return, bool board_mirror) {
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -101,7 +103,9 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     SetUniform(floor_sky_[p], f.shading.floor_sky);
     SetUniform(floor_sun_[p], f.shading.floor_sun);
     glUniform1f(inv_n2_[p], f.shading.inv_n2);
-    SetUniform(return_tint_[p], return_tint);
+    SetUniform(return_tint_[p], floor_return.tint);
+    SetUniform(floor_mean_[p], FloorMeanLight(f.shading, floor_return));
+    glUniform1f(return_mean_[p], floor_return.mean_return);
     glUniform1f(board_mirror_[p], board_mirror ? 1.0f : 0.0f);
     glUniform2f(z_range_[p], part.z0, part.z1);
     for (int i = 0; i < 4; ++i) {

@@ -28,13 +28,13 @@ class WallsPass {
   };
   bool Create(const Options& options, std::string* error);
   // Draws into the bound output, depth-tested against what is there.
-  // `return_tint`: the water pass's floor-return band ratio (its map is
-  // bound on kUnitFloorReturn). `board_mirror`: the reflection map (on
+  // `floor_return`: the water pass's floor-return tint and means (its map
+  // is bound on kUnitFloorReturn). `board_mirror`: the reflection map (on
   // kUnitReflection) holds this frame's video, so the glass facing the
   // camera mirrors the board in front of it from there; otherwise it
   // reflects the sky or the environment alone.
   void Draw(const FrameState& f, const TankWallsMesh& walls,
-            const glm::vec3& return_tint, bool board_mirror);
+            const FloorReturnLight& floor_return, bool board_mirror);
 
  private:
   // Far walls, then the front walls' variants: + 1 with shadows, + 2 with
@@ -48,7 +48,8 @@ class WallsPass {
   CommonUniforms common_[kPrograms];
   GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
-        return_tint_[kPrograms] = {}, board_mirror_[kPrograms] = {};
+        return_tint_[kPrograms] = {}, floor_mean_[kPrograms] = {},
+        return_mean_[kPrograms] = {}, board_mirror_[kPrograms] = {};
   // The walls' parts are cut this far outside the surface's height range:
   // the meniscus line is 0.7 mm wide, and the range's 8-bit code and the
   // mesh's filtering stay well inside it.

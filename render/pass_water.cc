@@ -39,6 +39,8 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   }
   s->glint_peak = p.Uniform("u_glint_peak");
   s->return_tint = p.Uniform("u_return_tint");
+  s->floor_mean = p.Uniform("u_floor_mean");
+  s->return_mean = p.Uniform("u_return_mean");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
   glUniform1i(p.Uniform("u_occluders"), kUnitOccluders);
   glUniform1i(p.Uniform("u_plate"), kUnitPlate);
@@ -68,7 +70,9 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
     // extra absorption on the way, nearly uniform over the floor).
     glm::dvec3 mean(0.0);
     for (const glm::vec3& r : floor_return_.returned) mean += glm::dvec3(r);
-    return_tint_ = glm::vec3(mean / std::max(mean.g, 1e-12));
+    return_light_.tint = glm::vec3(mean / std::max(mean.g, 1e-12));
+    return_light_.mean_return = static_cast<float>(
+        mean.g / std::max<size_t>(floor_return_.returned.size(), 1));
     floor_return_tank_ = tank;
   }
   // The board's radiance beyond each wall, as the video shows it where the
@@ -116,11 +120,16 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
   // One fetch: rgb = the surroundings' light, a = the green band's return.
   const FloorReturnMap& map = floor_return_;
   std::vector<glm::vec4> packed(map.returned.size());
+  glm::dvec3 surround_sum(0.0);
   for (size_t i = 0; i < packed.size(); ++i) {
     glm::vec3 surround = map.sky[i];
     for (int w = 0; w < 4; ++w) surround += map.board[w][i] * radiance[w];
     packed[i] = glm::vec4(surround, map.returned[i].g);
+    // The texture clamps what it stores at 0; so does its mean.
+    surround_sum += glm::dvec3(glm::max(surround, glm::vec3(0.0f)));
   }
+  return_light_.mean_surround =
+      glm::vec3(surround_sum / double(std::max<size_t>(packed.size(), 1)));
   // On its own unit: AllocTexture binds to the active one. 8 bits: the
   // light comes to at most about half the dry board's, in steps of 0.4 %
   // of it; a surroundings' term under 0 (walls showing less than the sky
@@ -257,7 +266,9 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   for (int i = 0; i < 4; ++i) SetUniform(s.under_glass[i], basis[i]);
   glUniform1f(s.glint_peak, w.glint_peak);
   glUniform1f(s.inv_alpha2, w.inv_alpha2);
-  SetUniform(s.return_tint, return_tint_);
+  SetUniform(s.return_tint, return_light_.tint);
+  SetUniform(s.floor_mean, FloorMeanLight(w, return_light_));
+  glUniform1f(s.return_mean, return_light_.mean_return);
   // Locations are -1 in the variants without the pen or the plate.
   SetUniform(s.pen_tip, real.pen_tip);
   SetUniform(s.pen_axis, real.pen_axis);

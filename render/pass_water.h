@@ -57,8 +57,8 @@ class WaterPass {
             GLuint target);
   // The grid the water is shaded on (inactive: the output's pixels).
   const CoarseGrid& grid() const { return grid_; }
-  // The return's ratio of the bands to green (see UpdateFloorReturn).
-  const glm::vec3& return_tint() const { return return_tint_; }
+  // The floor-return map's tint and means (frame_state.h).
+  const FloorReturnLight& floor_return_light() const { return return_light_; }
 
   // Texels of the floor-return map (optics.h) over the tank floor, and the
   // directions traced per texel; recomputed when the tank changes.
@@ -84,7 +84,8 @@ class WaterPass {
     CommonUniforms common;
     // Per-frame optics (FrameState::shading).
     GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
-          glint_peak = -1, inv_alpha2 = -1, return_tint = -1;
+          glint_peak = -1, inv_alpha2 = -1, return_tint = -1, floor_mean = -1,
+          return_mean = -1;
     GLint under_glass[4] = {-1, -1, -1, -1};  // per wall
     // kRealPen, kRealPlate.
     GLint pen_tip = -1, pen_axis = -1, pen_length = -1, pen_radius = -1,
@@ -117,7 +118,7 @@ class WaterPass {
   Options options_;
   FloorReturnMap floor_return_;
   Texture floor_return_tex_;  // RGBA: surroundings' light, green return
-  glm::vec3 return_tint_{1.0f};
+  FloorReturnLight return_light_;
   std::optional<TankGeometry> floor_return_tank_;
   glm::vec3 board_radiance_[4] = {glm::vec3(0.0f), glm::vec3(0.0f),
                                   glm::vec3(0.0f), glm::vec3(0.0f)};

@@ -405,7 +405,7 @@ bool Renderer::Render(const SceneInputs& scene,
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (fx.walls) {
-    m.walls.Draw(f, m.walls_mesh, m.water.return_tint(),
+    m.walls.Draw(f, m.walls_mesh, m.water.floor_return_light(),
                  fx.reflection && m.video.have_video());
   }
   m.timings.main_ms = m.timer.End(PassTimer::kMain);

@@ -607,16 +607,29 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
              ay * ((1 - ax) * at(x0, y0 + 1) + ax * at(x0 + 1, y0 + 1));
     };
     auto returned = [&](int c) { return bilinear(ret.returned, c); };
+    // The map's means over the floor: the floor around the point, which the
+    // surface's return comes from, is lit as the mean (frame_state.h).
+    auto mean = [&](const std::vector<glm::vec3>& m, int c) {
+      double sum = 0;
+      for (const glm::vec3& t : m) sum += t[c];
+      return sum / m.size();
+    };
     for (int c = 0; c < 3; ++c) {  // B, G, R
       const int rgb = 2 - c;
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
       // The board beyond every wall is the video's grey.
       double surround = bilinear(ret.sky, rgb);
-      for (const std::vector<glm::vec3>& board : ret.board)
+      double mean_surround = mean(ret.sky, rgb);
+      for (const std::vector<glm::vec3>& board : ret.board) {
         surround += bilinear(board, rgb) * video;
-      double x = video * (w.floor_sky[rgb] + w.floor_sun[rgb] + surround) *
-                 w.inv_n2 / (1 - returned(rgb) * video);
+        mean_surround += mean(board, rgb) * video;
+      }
+      const double light = w.floor_sky[rgb] + w.floor_sun[rgb];
+      const double around =
+          (light + mean_surround) / (1 - mean(ret.returned, rgb) * video);
+      double x = video * (light + surround + returned(rgb) * video * around) *
+                 w.inv_n2;
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
       x = HighlightShoulder(x, o.optics.highlight_knee);
       const double expected =

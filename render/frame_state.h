@@ -77,11 +77,11 @@ struct GroundRadiance {
 // What the floor's light under water needs of the water pass's floor-return
 // map (optics.h, FloorReturnMap) beyond its texels: the return's ratio of
 // the bands to green, and the map's means over the floor (the
-// surroundings' light, rgb, and the green return share).
+// surroundings' light and the return share, per band).
 struct FloorReturnLight {
   glm::vec3 tint{1.0f};
   glm::vec3 mean_surround{0.0f};
-  float mean_return = 0.0f;
+  glm::vec3 mean_return{0.0f};
 };
 
 // The floor's mean light under water, relative to the dry board: the sky

@@ -105,7 +105,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     glUniform1f(inv_n2_[p], f.shading.inv_n2);
     SetUniform(return_tint_[p], floor_return.tint);
     SetUniform(floor_mean_[p], FloorMeanLight(f.shading, floor_return));
-    glUniform1f(return_mean_[p], floor_return.mean_return);
+    SetUniform(return_mean_[p], floor_return.mean_return);
     glUniform1f(board_mirror_[p], board_mirror ? 1.0f : 0.0f);
     glUniform2f(z_range_[p], part.z0, part.z1);
     for (int i = 0; i < 4; ++i) {

@@ -71,8 +71,8 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
     glm::dvec3 mean(0.0);
     for (const glm::vec3& r : floor_return_.returned) mean += glm::dvec3(r);
     return_light_.tint = glm::vec3(mean / std::max(mean.g, 1e-12));
-    return_light_.mean_return = static_cast<float>(
-        mean.g / std::max<size_t>(floor_return_.returned.size(), 1));
+    return_light_.mean_return = glm::vec3(
+        mean / double(std::max<size_t>(floor_return_.returned.size(), 1)));
     floor_return_tank_ = tank;
   }
   // The board's radiance beyond each wall, as the video shows it where the
@@ -268,7 +268,7 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform1f(s.inv_alpha2, w.inv_alpha2);
   SetUniform(s.return_tint, return_light_.tint);
   SetUniform(s.floor_mean, FloorMeanLight(w, return_light_));
-  glUniform1f(s.return_mean, return_light_.mean_return);
+  SetUniform(s.return_mean, return_light_.mean_return);
   // Locations are -1 in the variants without the pen or the plate.
   SetUniform(s.pen_tip, real.pen_tip);
   SetUniform(s.pen_axis, real.pen_axis);

@@ -35,7 +35,7 @@ uniform sampler2D u_receiver;
 uniform sampler2D u_floor_return;  // as in water.frag
 uniform vec3 u_return_tint;
 uniform vec3 u_floor_mean;   // as in water.frag
-uniform float u_return_mean;
+uniform vec3 u_return_mean;
 uniform vec3 u_floor_sky;
 uniform vec3 u_floor_sun;
 uniform float u_inv_n2;
@@ -58,7 +58,7 @@ vec3 FloorUnderWater(vec3 f, vec3 video) {
   vec3 light = u_floor_sky + u_floor_sun * lit + back.rgb;
   vec3 returned = back.a * u_return_tint;
   vec3 v95 = min(video, vec3(0.95));
-  vec3 around = u_floor_mean / (1.0 - u_return_mean * u_return_tint * v95);
+  vec3 around = u_floor_mean / (1.0 - u_return_mean * v95);
   return video * (light + returned * v95 * around);
 }
 

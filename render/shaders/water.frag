@@ -51,10 +51,11 @@ uniform vec3 u_floor_sun;        // direct light through the flat surface
 // returns to it; u_return_tint the other bands' ratio to green.
 uniform sampler2D u_floor_return;
 uniform vec3 u_return_tint;
-// The floor's mean light and the map's mean green return share (the floor
-// around a point, which the surface's return comes from; frame_state.h).
+// The floor's mean light and the map's mean return share per band (the
+// floor around a point, which the surface's return comes from;
+// frame_state.h).
 uniform vec3 u_floor_mean;
-uniform float u_return_mean;
+uniform vec3 u_return_mean;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform vec3 u_under_glass[4];   // the board under a wall, over the dry
@@ -242,7 +243,7 @@ void main() {
   // mean: L = V (E + R V E_mean / (1 - R_mean V)), which is V E / (1 - R V)
   // on a uniformly lit floor.
   vec3 v95 = min(video, vec3(0.95));
-  vec3 around = u_floor_mean / (1.0 - u_return_mean * u_return_tint * v95);
+  vec3 around = u_floor_mean / (1.0 - u_return_mean * v95);
   vec3 under = mix(video * (floor_light + returned * v95 * around), video,
                    obstacle) *
                u_inv_n2;

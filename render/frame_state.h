@@ -82,6 +82,11 @@ struct FloorReturnLight {
   glm::vec3 tint{1.0f};
   glm::vec3 mean_surround{0.0f};
   glm::vec3 mean_return{0.0f};
+  // The floor near the walls under flat water, as the air above sees it:
+  // the video's floor 15 mm in from each wall (mean over points along all
+  // four), lit as the floor's mean with the surface's return to it, over n^2
+  // (what the back and side walls mirror into the tank, walls.frag).
+  glm::vec3 floor_seen{0.0f};
 };
 
 // The floor's mean light under water, relative to the dry board: the sky

@@ -45,6 +45,7 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     floor_mean_[i] = programs_[i].Uniform("u_floor_mean");
     return_mean_[i] = programs_[i].Uniform("u_return_mean");
     board_mirror_[i] = programs_[i].Uniform("u_board_mirror");
+    floor_seen_[i] = programs_[i].Uniform("u_floor_seen");
   }
   return true;
 }
@@ -107,6 +108,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     SetUniform(floor_mean_[p], FloorMeanLight(f.shading, floor_return));
     SetUniform(return_mean_[p], floor_return.mean_return);
     glUniform1f(board_mirror_[p], board_mirror ? 1.0f : 0.0f);
+    SetUniform(floor_seen_[p], floor_return.floor_seen);
     glUniform2f(z_range_[p], part.z0, part.z1);
     for (int i = 0; i < 4; ++i) {
       if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);

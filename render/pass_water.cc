@@ -148,6 +148,43 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
   uploaded_ = true;
 }
 
+void WaterPass::UpdateFloorSeen(const FrameState& f) {
+  const VideoFrame& v = f.scene->video;
+  if (v.bgr == nullptr && return_light_.floor_seen != glm::vec3(0.0f)) return;
+  const TankGeometry& t = f.scene->tank;
+  // 16 points along each wall, 15 mm in (or the middle of a smaller tank).
+  const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
+  const double in_x = std::min(0.015, hx), in_y = std::min(0.015, hy);
+  const glm::vec3 light = FloorMeanLight(f.shading, return_light_);
+  const glm::dvec3 r(return_light_.mean_return);
+  glm::dvec3 sum(0.0);
+  int count = 0;
+  constexpr int kPerWall = 16;
+  for (int i = 0; i < kPerWall; ++i) {
+    const double s = (i + 0.5) / kPerWall;
+    const double x = -hx + in_x + s * 2.0 * (hx - in_x);
+    const double y = -hy + in_y + s * 2.0 * (hy - in_y);
+    const glm::dvec2 points[4] = {
+        {hx - in_x, y}, {-hx + in_x, y}, {x, hy - in_y}, {x, -hy + in_y}};
+    for (const glm::dvec2& q : points) {
+      glm::dvec3 rho;
+      if (!VideoRadianceAt(v, *f.k, f.scene->cam_from_tank, q, f.srgb_output,
+                           &rho)) {
+        continue;
+      }
+      // The floor's light with the return it gets back from the surface,
+      // as in water.frag: E / (1 - R rho) for a uniformly lit floor.
+      sum += rho / (1.0 - r * glm::min(rho, glm::dvec3(0.95)));
+      ++count;
+    }
+  }
+  const glm::dvec3 albedo = count > 0 ? sum / double(count)
+                                      : glm::dvec3(kPaperRadiance) /
+                                            (1.0 - r * double(kPaperRadiance));
+  return_light_.floor_seen =
+      glm::vec3(albedo * glm::dvec3(light) * double(f.shading.inv_n2));
+}
+
 bool WaterPass::Create(const Options& options, std::string* error) {
   options_ = options;
   for (int v = 0; v < kVariants; ++v) {
@@ -350,6 +387,7 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
   UpdateFloorReturn(f);
+  UpdateFloorSeen(f);
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
   glBindTexture(GL_TEXTURE_2D, floor_return_tex_.id());
   state.Disable(GL_DEPTH_TEST);

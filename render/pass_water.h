@@ -114,6 +114,9 @@ class WaterPass {
   void UpdateFloorReturn(const FrameState& f);
   // Changes of the board's radiance below this leave the map as it is.
   static constexpr float kBoardChange = 0.002f;
+  // FloorReturnLight::floor_seen for this frame's video (the last frame's
+  // stands when there is none).
+  void UpdateFloorSeen(const FrameState& f);
 
   Options options_;
   FloorReturnMap floor_return_;

@@ -41,6 +41,11 @@ uniform vec3 u_floor_sun;
 uniform float u_inv_n2;
 uniform sampler2D u_reflection;  // quarter-size video (pass_video.h)
 uniform float u_board_mirror;
+#ifndef BOARD_MIRROR
+// The floor near the walls under flat water as the air sees it
+// (frame_state.h, FloorReturnLight::floor_seen).
+uniform vec3 u_floor_seen;
+#endif
 
 // The floor at `f` under water, of video colour `video`, seen from the
 // water: as in water.frag.
@@ -84,7 +89,8 @@ void main() {
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
   // What the glass reflects: the uniform sky, or the environment (cube map,
-  // daylight sky) by the mirrored ray. A wall facing the camera
+  // daylight sky) by the mirrored ray; the water in the tank where that ray
+  // goes down into it (below). A wall facing the camera
   // (BOARD_MIRROR) mirrors the ray downwards onto the board in front of it,
   // which the video shows: that board point (walls.vert), looked up in the
   // quarter-size reflection map while it lies in the frame (the glass shows
@@ -98,6 +104,15 @@ void main() {
                     all(lessThan(board_uv, vec2(1.0)));
   if (board_seen)
     sky_seen = DecodeVideo(textureLod(u_reflection, board_uv, 0.0).rgb);
+#else
+  // A wall seen from inside the tank (the back and side walls) mirrors the
+  // ray downwards into the tank: above the water the mirrored ray meets the
+  // surface a few millimetres from the wall and sees the sky's image in it
+  // (Fresnel) and, refracted, the floor under the water near the walls,
+  // taken at its mean (u_floor_seen): the glass reflects it at grazing
+  // angles, where the floor's pattern, caustics and shadows blur into it.
+  sky_seen = mix(u_floor_seen, sky_seen,
+                 FresnelExact(-reflect(v, nrm).z, u_ior));
 #endif
 #ifdef FRONT_WALL
 #ifdef UNDER_SURFACE

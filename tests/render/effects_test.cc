@@ -28,6 +28,13 @@ using testing::View;
 
 constexpr int kW = 320, kH = 240;
 
+// A floor map's mean over the floor, band c (optics.h, FloorReturnMap).
+double MapMean(const std::vector<glm::vec3>& m, int c) {
+  double sum = 0;
+  for (const glm::vec3& t : m) sum += t[c];
+  return sum / m.size();
+}
+
 using testing::RenderScene;
 
 double MeanDiff(const cv::Mat& a, const cv::Mat& b) {
@@ -609,25 +616,20 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
     auto returned = [&](int c) { return bilinear(ret.returned, c); };
     // The map's means over the floor: the floor around the point, which the
     // surface's return comes from, is lit as the mean (frame_state.h).
-    auto mean = [&](const std::vector<glm::vec3>& m, int c) {
-      double sum = 0;
-      for (const glm::vec3& t : m) sum += t[c];
-      return sum / m.size();
-    };
     for (int c = 0; c < 3; ++c) {  // B, G, R
       const int rgb = 2 - c;
       const double e = grey[c] / 255.0;
       const double video = transfer == Transfer::kSrgb ? SrgbToLinear(e) : e;
       // The board beyond every wall is the video's grey.
       double surround = bilinear(ret.sky, rgb);
-      double mean_surround = mean(ret.sky, rgb);
+      double mean_surround = MapMean(ret.sky, rgb);
       for (const std::vector<glm::vec3>& board : ret.board) {
         surround += bilinear(board, rgb) * video;
-        mean_surround += mean(board, rgb) * video;
+        mean_surround += MapMean(board, rgb) * video;
       }
       const double light = w.floor_sky[rgb] + w.floor_sun[rgb];
       const double around =
-          (light + mean_surround) / (1 - mean(ret.returned, rgb) * video);
+          (light + mean_surround) / (1 - MapMean(ret.returned, rgb) * video);
       double x = video * (light + surround + returned(rgb) * video * around) *
                  w.inv_n2;
       x *= std::exp(-o.optics.absorption_per_m[rgb] * path) * (1 - fresnel);
@@ -750,6 +752,87 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   const cv::Vec3b far_red = render(-0.4, -0.3, {0, 0, 255});
   const cv::Vec3b far_green = render(-0.4, -0.3, {0, 255, 0});
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(far_red[c], far_green[c], 1) << c;
+}
+
+// A glass wall seen from inside the tank (the back wall from the front) is a
+// vertical mirror whose image goes down into the tank: above the water it
+// shows the water near the walls, the floor under it lit as the floor's
+// mean with its return, over n^2 (FloorReturnLight::floor_seen), by
+// 2 x Fresnel of the glass times the surface's transmittance. Painting the
+// tank floor (and only it) dark, then light, changes the back glass by that
+// share of the difference (a glass that mirrored the sky there would not
+// change at all).
+TEST(EffectsTest, BackGlassMirrorsTheWaterBelowIt) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  const RendererOptions o;
+  auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH), o,
+                               nullptr);
+  ASSERT_NE(r, nullptr);
+  TestScene base = MakeScene(kW, kH, View::kFront, false);
+  const TankGeometry& t = base.inputs.tank;
+  const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
+  // A point of the back wall's inner face over the water, below the rim.
+  const glm::dvec3 p(0.0, hy, t.wall_height - 0.003);
+  const glm::dvec3 eye = glm::inverse(base.inputs.cam_from_tank)[3];
+  const glm::dvec3 v = glm::normalize(p - eye);
+  // The ray passes over the front wall and the water.
+  ASSERT_GT(eye.z + v.z * ((-hy - eye.y) / v.y), t.wall_height);
+  const glm::dvec4 pc = base.inputs.cam_from_tank * glm::dvec4(p, 1.0);
+  const int u =
+      static_cast<int>(std::lround(base.k.fx * pc.x / pc.z + base.k.cx));
+  const int w =
+      static_cast<int>(std::lround(base.k.fy * pc.y / pc.z + base.k.cy));
+  const std::uint8_t board_grey = 200;
+  // Renders with the tank's floor painted `grey` (the board around stays).
+  auto render = [&](std::uint8_t grey) {
+    TestScene s = MakeScene(kW, kH, View::kFront, false);
+    s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+    s.inputs.effects.reflection = false;
+    const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+    for (int y = 0; y < kH; ++y) {
+      for (int x = 0; x < kW; ++x) {
+        const glm::dvec3 ray = glm::dvec3(
+            tank_from_cam *
+            glm::dvec4((x - s.k.cx) / s.k.fx, (y - s.k.cy) / s.k.fy, 1.0, 0.0));
+        const glm::dvec3 b = eye + ray * (eye.z / -ray.z);
+        const bool floor =
+            ray.z < 0 && std::abs(b.x) < hx && std::abs(b.y) < hy;
+        for (int c = 0; c < 3; ++c)
+          s.video[3 * (y * kW + x) + c] = floor ? grey : board_grey;
+      }
+    }
+    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(w, u);
+  };
+  const cv::Vec3b dark = render(60), light = render(200);
+  // The prediction: the floor's mean light (sky, direct light, the
+  // surroundings through the walls from the board's grey) and the return.
+  const WaterShading sh =
+      ComputeWaterShading(o.optics, t.water_level, base.inputs.light_in_tank);
+  const FloorReturnMap ret = ComputeFloorReturn(
+      o.optics, t.size_x, t.size_y, t.water_level,
+      internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
+      internal::WaterPass::kReturnRays);
+  const double board = SrgbToLinear(board_grey / 255.0);
+  const double r_glass = 2.0 * FresnelReflectance(std::abs(v.y), 1.0, 1.5);
+  const double t_surface = 1.0 - FresnelReflectance(-v.z, 1.0, o.optics.ior);
+  for (int c = 0; c < 3; ++c) {  // B, G, R
+    const int rgb = 2 - c;
+    double light_mean =
+        sh.floor_sky[rgb] + sh.floor_sun[rgb] + MapMean(ret.sky, rgb);
+    for (const std::vector<glm::vec3>& b : ret.board)
+      light_mean += MapMean(b, rgb) * board;
+    const double back = MapMean(ret.returned, rgb);
+    auto seen = [&](std::uint8_t grey) {
+      const double rho = SrgbToLinear(grey / 255.0);
+      return rho / (1.0 - back * std::min(rho, 0.95)) * light_mean * sh.inv_n2;
+    };
+    // Over the water the glass blends on encoded values to first order: the
+    // reflected linear radiance enters at 0.66 x (walls.frag).
+    const double want =
+        255.0 * 0.66 * r_glass * t_surface * (seen(200) - seen(60));
+    ASSERT_GT(want, 3.0);
+    EXPECT_NEAR(light[c] - dark[c], want, 0.1 * want + 1.0) << c;
+  }
 }
 
 }  // namespace

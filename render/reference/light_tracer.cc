@@ -360,8 +360,11 @@ void TraceLight(const ReferenceOptions& options, const SceneModel& model,
       for (int i = 0; i < nx; ++i) {
         const glm::dvec3 p(x0 + (i + offsets[k].x) * h, y, z_top);
         tally.launched += flux;
-        // Anything opaque above the launch plane (the pen held high).
-        if (model.Next(p, w, Medium::kAir).kind == Event::Kind::kDiffuse) {
+        // Anything opaque above the launch plane (the pen held high), or
+        // through it (a tall obstacle, the pen's shaft): the light to a
+        // launch point inside a solid crossed the solid.
+        if (model.InsideSolid(p) ||
+            model.Next(p, w, Medium::kAir).kind == Event::Kind::kDiffuse) {
           tally.occluded += flux;
           continue;
         }

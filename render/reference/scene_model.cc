@@ -283,6 +283,22 @@ void SceneModel::SolidHits(const glm::dvec3& o, const glm::dvec3& d,
   }
 }
 
+bool SceneModel::InsideSolid(const glm::dvec3& p) const {
+  for (const Solid& s : solids_) {
+    const glm::dvec3 q = glm::transpose(s.rot) * (p - s.origin);
+    if (s.shape == Solid::Shape::kBox) {
+      if (std::abs(q.x) <= s.half.x && std::abs(q.y) <= s.half.y &&
+          std::abs(q.z) <= s.half.z) {
+        return true;
+      }
+    } else if (q.x * q.x + q.y * q.y <= s.radius * s.radius && q.z >= s.z0 &&
+               q.z <= s.z1) {
+      return true;
+    }
+  }
+  return false;
+}
+
 void SceneModel::BoardHit(const glm::dvec3& o, const glm::dvec3& d, double t,
                           Event* best) const {
   if (!(t > kRayEpsilon && t < best->t)) return;

@@ -69,6 +69,10 @@ class SceneModel {
   // The first event along o + t d (t > kRayEpsilon) for a ray in medium m.
   Event Next(const glm::dvec3& o, const glm::dvec3& d, Medium m) const;
   Spectrum Albedo(const Event& e) const;
+  // Whether p lies inside (or on) one of the opaque solids. Next() finds a
+  // solid's faces only from outside, so a ray starting inside passes
+  // through it: a light path launched inside one is blocked by it instead.
+  bool InsideSolid(const glm::dvec3& p) const;
   // The room's wall (ReferenceScene::Room) that the ray o + t d (in the air,
   // o inside the room) meets, at *t, and its radiance; false without a room
   // or when the ray leaves over the walls' top.

@@ -431,6 +431,58 @@ TEST(ReferenceLightTest, ShadowEdgeUnderWaterIsWhereRefractionPutsIt) {
   EXPECT_NEAR(image_edge, rs.camera.cx, 0.5);
 }
 
+// A solid that stands through the light tracer's launch plane (just over
+// the walls' top) blocks the light like any other: a cylinder 60 mm tall in
+// flat water leaves the floor where its middle's shadow falls dark. Paths
+// launched inside it used to pass straight through (the solids' faces are
+// found from outside only) and lit that floor fully, which left only a
+// crescent of shadow round the part below the plane.
+TEST(ReferenceLightTest, ASolidThroughTheLaunchPlaneCastsItsWholeShadow) {
+  ReferenceScene rs;
+  rs.light_angular_radius_rad = 0.5 * M_PI / 180;
+  rs.scene.light_in_tank = {0.5, 0.0, 1.0};
+  rs.absorption_per_m = {0, 0, 0};
+  render::Obstacle cylinder;
+  cylinder.shape = render::Obstacle::Shape::kCylinder;
+  cylinder.size = {0.01f, 0.01f, 0.06f};
+  rs.scene.obstacles.push_back(cylinder);
+  ASSERT_GT(cylinder.size.z, rs.scene.tank.wall_height + 0.01);
+  const double level = rs.scene.tank.water_level;
+  const double theta = std::atan(0.5);
+  const double theta_t = std::asin(std::sin(theta) / rs.water_ior);
+  // Where the light through the axis at heights z lands on the floor.
+  auto shadow_of = [&](double z) {
+    return -(z - level) * std::tan(theta) - level * std::tan(theta_t);
+  };
+  // The light maps need a valid camera; it plays no part in them.
+  rs.camera.width = rs.camera.height = 8;
+  rs.camera.fx = rs.camera.fy = 1000;
+  rs.camera.cx = rs.camera.cy = 3.5;
+  ReferenceOptions o = FastOptions();
+  o.caustic_map_size = 256;
+  LightMaps maps;
+  std::string error;
+  ASSERT_TRUE(ComputeLightMaps(o, rs, &maps, nullptr, &error)) << error;
+  const cv::Mat& m = maps.floor_irradiance;
+  auto irradiance_at = [&](double x) {
+    const int col = static_cast<int>((x - maps.floor_rect_m.x) /
+                                     (maps.floor_rect_m.width / m.cols));
+    const int row = static_cast<int>((0.0 - maps.floor_rect_m.y) /
+                                     (maps.floor_rect_m.height / m.rows));
+    return double(m.at<cv::Vec3f>(row, col)[1]);
+  };
+  const double lit = irradiance_at(0.06);
+  ASSERT_GT(lit, 0.0);
+  // The shadows of the axis at 45 mm (above the launch plane at 41 mm) and
+  // at 35 mm (below it), the cylinder's radius from the shadow's edges.
+  for (const double z : {0.045, 0.035}) {
+    const double e = irradiance_at(shadow_of(z));
+    std::printf("floor under the axis's shadow at z = %.3f m: %.4f of lit\n", z,
+                e / lit);
+    EXPECT_LT(e, 0.02 * lit) << z;
+  }
+}
+
 // A dry, plain board in full light has radiance = albedo, with and without
 // lens distortion, whatever the light's direction.
 TEST(ReferenceRenderTest, DryBoardRadianceIsAlbedo) {

@@ -433,10 +433,11 @@ TEST(ReferenceLightTest, ShadowEdgeUnderWaterIsWhereRefractionPutsIt) {
 
 // A solid that stands through the light tracer's launch plane (just over
 // the walls' top) blocks the light like any other: a cylinder 60 mm tall in
-// flat water leaves the floor where its middle's shadow falls dark. Paths
-// launched inside it used to pass straight through (the solids' faces are
-// found from outside only) and lit that floor fully, which left only a
-// crescent of shadow round the part below the plane.
+// flat water leaves the floor where its middle's shadow falls dark. The
+// solids' faces are found from outside only, so a path launched inside one
+// would pass straight through it and light that floor (0.71 of the lit
+// level here), leaving only a crescent of shadow from its part below the
+// plane.
 TEST(ReferenceLightTest, ASolidThroughTheLaunchPlaneCastsItsWholeShadow) {
   ReferenceScene rs;
   rs.light_angular_radius_rad = 0.5 * M_PI / 180;

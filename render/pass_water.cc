@@ -149,13 +149,18 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
 }
 
 void WaterPass::UpdateFloorSeen(const FrameState& f) {
+  const glm::dvec3 light(FloorMeanLight(f.shading, return_light_));
   const VideoFrame& v = f.scene->video;
-  if (v.bgr == nullptr && return_light_.floor_seen != glm::vec3(0.0f)) return;
+  // No frame this time: the last one's floor stands (the light may move).
+  if (v.bgr == nullptr && have_floor_albedo_) {
+    return_light_.floor_seen =
+        glm::vec3(floor_albedo_ * light * double(f.shading.inv_n2));
+    return;
+  }
   const TankGeometry& t = f.scene->tank;
   // 16 points along each wall, 15 mm in (or the middle of a smaller tank).
   const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
   const double in_x = std::min(0.015, hx), in_y = std::min(0.015, hy);
-  const glm::vec3 light = FloorMeanLight(f.shading, return_light_);
   const glm::dvec3 r(return_light_.mean_return);
   glm::dvec3 sum(0.0);
   int count = 0;
@@ -178,11 +183,12 @@ void WaterPass::UpdateFloorSeen(const FrameState& f) {
       ++count;
     }
   }
-  const glm::dvec3 albedo = count > 0 ? sum / double(count)
-                                      : glm::dvec3(kPaperRadiance) /
-                                            (1.0 - r * double(kPaperRadiance));
+  floor_albedo_ = count > 0 ? sum / double(count)
+                            : glm::dvec3(kPaperRadiance) /
+                                  (1.0 - r * double(kPaperRadiance));
+  have_floor_albedo_ = count > 0;
   return_light_.floor_seen =
-      glm::vec3(albedo * glm::dvec3(light) * double(f.shading.inv_n2));
+      glm::vec3(floor_albedo_ * light * double(f.shading.inv_n2));
 }
 
 bool WaterPass::Create(const Options& options, std::string* error) {

@@ -126,6 +126,10 @@ class WaterPass {
   glm::vec3 board_radiance_[4] = {glm::vec3(0.0f), glm::vec3(0.0f),
                                   glm::vec3(0.0f), glm::vec3(0.0f)};
   bool uploaded_ = false;
+  // The floor near the walls as the last video showed it, with its return
+  // factor 1 / (1 - R rho) (UpdateFloorSeen).
+  glm::dvec3 floor_albedo_{0.0};
+  bool have_floor_albedo_ = false;
   Shading variants_[kVariants];
   Shading flat_;  // Effects::flat_water: one colour, whatever the effects
   Program depth_;

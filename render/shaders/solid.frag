@@ -29,8 +29,8 @@ void main() {
   // / 2 (its view factors).
   //   In air: the sky (radiance u_ambient) above, and below the board
   //   around the tank or, over the tank, the water (the wet floor seen
-  //   through the surface, 1/n^2); the light's direct share by n.l /
-  //   cos(light).
+  //   through the surface, 1/n^2) and the board beyond the walls; the
+  //   light's direct share by n.l / cos(light).
   //   Under water: above, the sky through the surface (what the floor gets
   //   from it) and the floor's light that the surface returns (total
   //   internal reflection outside Snell's window); below, the floor; the
@@ -49,8 +49,22 @@ void main() {
   // a branch).
   vec3 above = under ? u_floor_sky + u_internal_reflectance * u_floor_wet
                      : vec3(u_ambient);
+  // Over the tank the lower view is the water out to the walls and, at
+  // depressions under delta = atan(height over the water / distance to the
+  // wall along the face's horizontal normal), the board beyond them: a
+  // vertical face sees the band between the horizon and delta below it
+  // with the share sin(delta) of its lower view ((cos a1 - cos a2) / 2 for
+  // a wedge about a line in the face's plane); a tilted face is weighted
+  // the same way, the water taking the rest.
+  vec2 nh = n.xy / max(length(n.xy), 1e-4);
+  vec2 side = mix(vec2(-1.0), vec2(1.0), step(0.0, nh));
+  vec2 to_wall = (half_size - side * v_p.xy) / max(abs(nh), vec2(1e-4));
+  float reach = max(min(to_wall.x, to_wall.y), 1e-4);
+  float height = max(v_p.z - u_tank.w, 0.0);
+  float beyond = height * inversesqrt(height * height + reach * reach);
   vec3 below = under ? u_floor_wet
-                     : (in_tank ? u_floor_wet * u_inv_n2 : u_ground);
+                     : (in_tank ? mix(u_floor_wet * u_inv_n2, u_ground, beyond)
+                                : u_ground);
   vec3 direct = under ? u_floor_sun : vec3(1.0 - u_ambient);
   vec3 light = above * up + below * down + direct * diffuse;
   // Alpha 0 marks the obstacles' pixels for the water, which must not

@@ -695,6 +695,57 @@ TEST(EffectsTest, ObstacleFacesSeeTheSkyAndTheBoard) {
   }
 }
 
+// An obstacle standing in the tank sees, below, the water out to the walls
+// and the board beyond them: its vertical face (out of the light) reads
+// albedo x (a / 2 + ((1 - b) W / n^2 + b G) / 2), with W the wet floor's
+// radiance (the video's grey G lit through the surface), and b = sin of the
+// depression to the wall's foot at the water line, h / sqrt(h^2 + D^2) for
+// a point h over the water and D from the wall along the face's normal. At
+// three heights over the front wall's top.
+TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  const RendererOptions o;
+  auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH), o,
+                               nullptr);
+  ASSERT_NE(r, nullptr);
+  TestScene s = MakeScene(kW, kH, View::kFront, false);
+  const std::uint8_t grey = 200;
+  std::fill(s.video.begin(), s.video.end(), grey);
+  s.inputs.effects.shadows = s.inputs.effects.caustics = false;
+  s.inputs.light_in_tank = {0.0, 1.0, 1.0};  // from behind: -y face unlit
+  Obstacle box;
+  box.shape = Obstacle::Shape::kBox;
+  box.size = {0.03f, 0.02f, 0.07f};
+  s.inputs.obstacles = {box};
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  const TankGeometry& t = s.inputs.tank;
+  const WaterShading sh =
+      ComputeWaterShading(o.optics, t.water_level, s.inputs.light_in_tank);
+  const double a = o.optics.ambient_share;
+  const double g = SrgbToLinear(grey / 255.0);
+  const double reach = 0.5 * t.size_y - 0.5 * box.size.y;
+  for (const double z : {0.045, 0.055, 0.065}) {
+    ASSERT_GT(z, t.wall_height);
+    const glm::dvec4 c =
+        s.inputs.cam_from_tank * glm::dvec4(0.0, -0.5 * box.size.y, z, 1.0);
+    const cv::Vec3b px = out.at<cv::Vec3b>(
+        static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy)),
+        static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx)));
+    const double h = z - t.water_level;
+    const double b = h / std::sqrt(h * h + reach * reach);
+    for (int ch = 0; ch < 3; ++ch) {  // B, G, R
+      const int rgb = 2 - ch;
+      const double wet = g * (sh.floor_sky[rgb] + sh.floor_sun[rgb]);
+      const double below = (1.0 - b) * wet * sh.inv_n2 + b * g;
+      const double want =
+          255.0 * LinearToSrgb(HighlightShoulder(
+                      o.obstacle_albedo[rgb] * (0.5 * a + 0.5 * below),
+                      o.optics.highlight_knee));
+      EXPECT_NEAR(px[ch], want, 1.5) << "band " << ch << " z " << z;
+    }
+  }
+}
+
 // A glass wall facing the camera is a vertical mirror: its faces reflect
 // the board in front of it (2 x Fresnel at the ray's incidence), which the
 // video shows. A band of the board painted red, then green, changes the

@@ -35,6 +35,13 @@ double MapMean(const std::vector<glm::vec3>& m, int c) {
   return sum / m.size();
 }
 
+// The pixel (x, y) on which tank point p projects (the scene's pinhole).
+cv::Point ImagePoint(const TestScene& s, const glm::dvec3& p) {
+  const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(p, 1.0);
+  return {static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx)),
+          static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy))};
+}
+
 using testing::RenderScene;
 
 double MeanDiff(const cv::Mat& a, const cv::Mat& b) {
@@ -726,11 +733,8 @@ TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
   const double reach = 0.5 * t.size_y - 0.5 * box.size.y;
   for (const double z : {0.045, 0.055, 0.065}) {
     ASSERT_GT(z, t.wall_height);
-    const glm::dvec4 c =
-        s.inputs.cam_from_tank * glm::dvec4(0.0, -0.5 * box.size.y, z, 1.0);
-    const cv::Vec3b px = out.at<cv::Vec3b>(
-        static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy)),
-        static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx)));
+    const cv::Vec3b px =
+        out.at<cv::Vec3b>(ImagePoint(s, {0.0, -0.5 * box.size.y, z}));
     const double h = z - t.water_level;
     const double b = h / std::sqrt(h * h + reach * reach);
     for (int ch = 0; ch < 3; ++ch) {  // B, G, R
@@ -766,11 +770,7 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   const glm::dvec3 mirrored(v.x, -v.y, v.z);
   const glm::dvec3 board = p + mirrored * (p.z / -mirrored.z);
   ASSERT_LT(board.y, -0.5 * t.size_y - 0.01);  // on the board in front
-  const glm::dvec4 pc = base.inputs.cam_from_tank * glm::dvec4(p, 1.0);
-  const int u =
-      static_cast<int>(std::lround(base.k.fx * pc.x / pc.z + base.k.cx));
-  const int w =
-      static_cast<int>(std::lround(base.k.fy * pc.y / pc.z + base.k.cy));
+  const cv::Point at = ImagePoint(base, p);
   // Renders with the board's band y in [y0, y1] painted `bgr`.
   auto render = [&](double y0, double y1, cv::Vec3b bgr) {
     TestScene s = MakeScene(kW, kH, View::kFront, false);
@@ -787,7 +787,7 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
         for (int c = 0; c < 3; ++c) s.video[3 * (y * kW + x) + c] = bgr[c];
       }
     }
-    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(w, u);
+    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(at);
   };
   const double lo = board.y - 0.01, hi = board.y + 0.005;
   const cv::Vec3b red = render(lo, hi, {0, 0, 255});
@@ -828,11 +828,7 @@ TEST(EffectsTest, BackGlassMirrorsTheWaterBelowIt) {
   const glm::dvec3 v = glm::normalize(p - eye);
   // The ray passes over the front wall and the water.
   ASSERT_GT(eye.z + v.z * ((-hy - eye.y) / v.y), t.wall_height);
-  const glm::dvec4 pc = base.inputs.cam_from_tank * glm::dvec4(p, 1.0);
-  const int u =
-      static_cast<int>(std::lround(base.k.fx * pc.x / pc.z + base.k.cx));
-  const int w =
-      static_cast<int>(std::lround(base.k.fy * pc.y / pc.z + base.k.cy));
+  const cv::Point at = ImagePoint(base, p);
   const std::uint8_t board_grey = 200;
   // Renders with the tank's floor painted `grey` (the board around stays).
   auto render = [&](std::uint8_t grey) {
@@ -852,7 +848,7 @@ TEST(EffectsTest, BackGlassMirrorsTheWaterBelowIt) {
           s.video[3 * (y * kW + x) + c] = floor ? grey : board_grey;
       }
     }
-    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(w, u);
+    return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(at);
   };
   const cv::Vec3b dark = render(60), light = render(200);
   // The prediction: the floor's mean light (sky, direct light, the

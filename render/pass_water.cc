@@ -149,44 +149,43 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
 }
 
 void WaterPass::UpdateFloorSeen(const FrameState& f) {
-  const glm::dvec3 light(FloorMeanLight(f.shading, return_light_));
+  // No frame this time: the last one's floor stands; the light may move.
   const VideoFrame& v = f.scene->video;
-  // No frame this time: the last one's floor stands (the light may move).
-  if (v.bgr == nullptr && have_floor_albedo_) {
-    return_light_.floor_seen =
-        glm::vec3(floor_albedo_ * light * double(f.shading.inv_n2));
-    return;
-  }
-  const TankGeometry& t = f.scene->tank;
-  // 16 points along each wall, 15 mm in (or the middle of a smaller tank).
-  const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
-  const double in_x = std::min(0.015, hx), in_y = std::min(0.015, hy);
-  const glm::dvec3 r(return_light_.mean_return);
-  glm::dvec3 sum(0.0);
-  int count = 0;
-  constexpr int kPerWall = 16;
-  for (int i = 0; i < kPerWall; ++i) {
-    const double s = (i + 0.5) / kPerWall;
-    const double x = -hx + in_x + s * 2.0 * (hx - in_x);
-    const double y = -hy + in_y + s * 2.0 * (hy - in_y);
-    const glm::dvec2 points[4] = {
-        {hx - in_x, y}, {-hx + in_x, y}, {x, hy - in_y}, {x, -hy + in_y}};
-    for (const glm::dvec2& q : points) {
-      glm::dvec3 rho;
-      if (!VideoRadianceAt(v, *f.k, f.scene->cam_from_tank, q, f.srgb_output,
-                           &rho)) {
-        continue;
+  if (v.bgr != nullptr || !have_floor_albedo_) {
+    const TankGeometry& t = f.scene->tank;
+    // 16 points along each wall, 15 mm in (or the middle of a smaller
+    // tank).
+    const double hx = 0.5 * t.size_x, hy = 0.5 * t.size_y;
+    const double in_x = std::min(0.015, hx), in_y = std::min(0.015, hy);
+    const glm::dvec3 r(return_light_.mean_return);
+    // The floor's light with the return it gets back from the surface, as
+    // in water.frag: E / (1 - R rho) for a uniformly lit floor.
+    auto with_return = [&](const glm::dvec3& rho) {
+      return rho / (1.0 - r * glm::min(rho, glm::dvec3(0.95)));
+    };
+    glm::dvec3 sum(0.0);
+    int count = 0;
+    constexpr int kPerWall = 16;
+    for (int i = 0; i < kPerWall; ++i) {
+      const double s = (i + 0.5) / kPerWall;
+      const double x = -hx + in_x + s * 2.0 * (hx - in_x);
+      const double y = -hy + in_y + s * 2.0 * (hy - in_y);
+      const glm::dvec2 points[4] = {
+          {hx - in_x, y}, {-hx + in_x, y}, {x, hy - in_y}, {x, -hy + in_y}};
+      for (const glm::dvec2& q : points) {
+        glm::dvec3 rho;
+        if (VideoRadianceAt(v, *f.k, f.scene->cam_from_tank, q, f.srgb_output,
+                            &rho)) {
+          sum += with_return(rho);
+          ++count;
+        }
       }
-      // The floor's light with the return it gets back from the surface,
-      // as in water.frag: E / (1 - R rho) for a uniformly lit floor.
-      sum += rho / (1.0 - r * glm::min(rho, glm::dvec3(0.95)));
-      ++count;
     }
+    floor_albedo_ = count > 0 ? sum / double(count)
+                              : with_return(glm::dvec3(kPaperRadiance));
+    have_floor_albedo_ = count > 0;
   }
-  floor_albedo_ = count > 0 ? sum / double(count)
-                            : glm::dvec3(kPaperRadiance) /
-                                  (1.0 - r * double(kPaperRadiance));
-  have_floor_albedo_ = count > 0;
+  const glm::dvec3 light(FloorMeanLight(f.shading, return_light_));
   return_light_.floor_seen =
       glm::vec3(floor_albedo_ * light * double(f.shading.inv_n2));
 }

@@ -44,6 +44,22 @@ cv::Point ImagePoint(const TestScene& s, const glm::dvec3& p) {
 
 using testing::RenderScene;
 
+// The front view over a uniform grey video with one box obstacle, the light
+// from behind (the box's -y face out of it), no shadows or caustics.
+TestScene ObstacleScene(std::uint8_t grey, const glm::vec3& size,
+                        const glm::dvec3& base) {
+  TestScene s = MakeScene(kW, kH, View::kFront, false);
+  std::fill(s.video.begin(), s.video.end(), grey);
+  s.inputs.effects.shadows = s.inputs.effects.caustics = false;
+  s.inputs.light_in_tank = {0.0, 1.0, 1.0};
+  Obstacle box;
+  box.shape = Obstacle::Shape::kBox;
+  box.size = size;
+  box.tank_from_obstacle[3] = glm::dvec4(base, 1.0);
+  s.inputs.obstacles = {box};
+  return s;
+}
+
 double MeanDiff(const cv::Mat& a, const cv::Mat& b) {
   cv::Mat d;
   cv::absdiff(a, b, d);
@@ -662,21 +678,11 @@ TEST(EffectsTest, ObstacleFacesSeeTheSkyAndTheBoard) {
                                nullptr);
   ASSERT_NE(r, nullptr);
   auto face = [&](std::uint8_t grey, cv::Vec3b* top) {
-    TestScene s = MakeScene(kW, kH, View::kFront, false);
-    std::fill(s.video.begin(), s.video.end(), grey);
-    s.inputs.effects.shadows = s.inputs.effects.caustics = false;
-    s.inputs.light_in_tank = {0.0, 1.0, 1.0};  // from behind: -y face unlit
-    Obstacle box;
-    box.shape = Obstacle::Shape::kBox;
-    box.size = {0.03f, 0.02f, 0.02f};
-    box.tank_from_obstacle[3] = glm::dvec4(0.0, -0.085, 0.0, 1.0);
-    s.inputs.obstacles = {box};
+    const TestScene s =
+        ObstacleScene(grey, {0.03f, 0.02f, 0.02f}, {0.0, -0.085, 0.0});
     const cv::Mat out = RenderScene(r.get(), s.inputs);
     auto pixel = [&](const glm::dvec3& p) {
-      const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(p, 1.0);
-      return out.at<cv::Vec3b>(
-          static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy)),
-          static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx)));
+      return out.at<cv::Vec3b>(ImagePoint(s, p));
     };
     *top = pixel({0.0, -0.085, 0.02});
     return pixel({0.0, -0.095, 0.01});  // the -y face's centre
@@ -715,26 +721,20 @@ TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
   auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH), o,
                                nullptr);
   ASSERT_NE(r, nullptr);
-  TestScene s = MakeScene(kW, kH, View::kFront, false);
   const std::uint8_t grey = 200;
-  std::fill(s.video.begin(), s.video.end(), grey);
-  s.inputs.effects.shadows = s.inputs.effects.caustics = false;
-  s.inputs.light_in_tank = {0.0, 1.0, 1.0};  // from behind: -y face unlit
-  Obstacle box;
-  box.shape = Obstacle::Shape::kBox;
-  box.size = {0.03f, 0.02f, 0.07f};
-  s.inputs.obstacles = {box};
+  const glm::vec3 size(0.03f, 0.02f, 0.07f);
+  const TestScene s = ObstacleScene(grey, size, glm::dvec3(0.0));
   const cv::Mat out = RenderScene(r.get(), s.inputs);
   const TankGeometry& t = s.inputs.tank;
   const WaterShading sh =
       ComputeWaterShading(o.optics, t.water_level, s.inputs.light_in_tank);
   const double a = o.optics.ambient_share;
   const double g = SrgbToLinear(grey / 255.0);
-  const double reach = 0.5 * t.size_y - 0.5 * box.size.y;
+  const double reach = 0.5 * t.size_y - 0.5 * size.y;
   for (const double z : {0.045, 0.055, 0.065}) {
     ASSERT_GT(z, t.wall_height);
     const cv::Vec3b px =
-        out.at<cv::Vec3b>(ImagePoint(s, {0.0, -0.5 * box.size.y, z}));
+        out.at<cv::Vec3b>(ImagePoint(s, {0.0, -0.5 * size.y, z}));
     const double h = z - t.water_level;
     const double b = h / std::sqrt(h * h + reach * reach);
     for (int ch = 0; ch < 3; ++ch) {  // B, G, R

@@ -345,6 +345,27 @@ TEST(ReferenceLightTest, LightTracedFluxIsConserved) {
   EXPECT_NEAR(map_flux / (s.surface_incident[1] * t0), 1.0, 0.01);
 }
 
+// One obstacle in flat, clear water under a small disc (0.5 degrees) tilted
+// towards +x (tan theta = 0.5), for the shadow tests.
+ReferenceScene TiltedLightScene(const render::Obstacle& obstacle) {
+  ReferenceScene rs;
+  rs.light_angular_radius_rad = 0.5 * M_PI / 180;
+  rs.scene.light_in_tank = {0.5, 0.0, 1.0};
+  rs.absorption_per_m = {0, 0, 0};
+  rs.scene.obstacles.push_back(obstacle);
+  return rs;
+}
+
+// How far towards -x of a point at height z (over the water) the light
+// through it lands on the floor of TiltedLightScene: (z - level) tan(theta)
+// in the air, level tan(theta_t) in the water.
+double ShadowRun(const ReferenceScene& rs, double z) {
+  const double level = rs.scene.tank.water_level;
+  const double theta = std::atan(0.5);
+  const double theta_t = std::asin(std::sin(theta) / rs.water_ior);
+  return (z - level) * std::tan(theta) + level * std::tan(theta_t);
+}
+
 // Registration of the light-traced map and of its lookup: a box standing in
 // flat water casts a shadow whose far edge lies where the ray grazing the
 // box's top edge lands, (top - level) tan(theta) + level tan(theta_t) beyond
@@ -352,19 +373,11 @@ TEST(ReferenceLightTest, LightTracedFluxIsConserved) {
 // straight down on the edge (where refraction does not move it) must be
 // there.
 TEST(ReferenceLightTest, ShadowEdgeUnderWaterIsWhereRefractionPutsIt) {
-  ReferenceScene rs;
-  rs.light_angular_radius_rad = 0.5 * M_PI / 180;
-  rs.scene.light_in_tank = {0.5, 0.0, 1.0};
-  rs.absorption_per_m = {0, 0, 0};
   render::Obstacle box;
   box.shape = render::Obstacle::Shape::kBox;
   box.size = {0.01f, 0.06f, 0.035f};
-  rs.scene.obstacles.push_back(box);
-  const double level = rs.scene.tank.water_level;
-  const double theta = std::atan(0.5);
-  const double theta_t = std::asin(std::sin(theta) / rs.water_ior);
-  const double edge_x = -0.005 - (box.size.z - level) * std::tan(theta) -
-                        level * std::tan(theta_t);
+  ReferenceScene rs = TiltedLightScene(box);
+  const double edge_x = -0.005 - ShadowRun(rs, box.size.z);
   // A camera 0.3 m straight above the edge, image x along tank x.
   const glm::dvec3 eye(edge_x, 0.0, 0.3);
   glm::dmat4 cam_from_tank(1.0);
@@ -439,22 +452,11 @@ TEST(ReferenceLightTest, ShadowEdgeUnderWaterIsWhereRefractionPutsIt) {
 // level here), leaving only a crescent of shadow from its part below the
 // plane.
 TEST(ReferenceLightTest, ASolidThroughTheLaunchPlaneCastsItsWholeShadow) {
-  ReferenceScene rs;
-  rs.light_angular_radius_rad = 0.5 * M_PI / 180;
-  rs.scene.light_in_tank = {0.5, 0.0, 1.0};
-  rs.absorption_per_m = {0, 0, 0};
   render::Obstacle cylinder;
   cylinder.shape = render::Obstacle::Shape::kCylinder;
   cylinder.size = {0.01f, 0.01f, 0.06f};
-  rs.scene.obstacles.push_back(cylinder);
+  ReferenceScene rs = TiltedLightScene(cylinder);
   ASSERT_GT(cylinder.size.z, rs.scene.tank.wall_height + 0.01);
-  const double level = rs.scene.tank.water_level;
-  const double theta = std::atan(0.5);
-  const double theta_t = std::asin(std::sin(theta) / rs.water_ior);
-  // Where the light through the axis at heights z lands on the floor.
-  auto shadow_of = [&](double z) {
-    return -(z - level) * std::tan(theta) - level * std::tan(theta_t);
-  };
   // The light maps need a valid camera; it plays no part in them.
   rs.camera.width = rs.camera.height = 8;
   rs.camera.fx = rs.camera.fy = 1000;
@@ -477,7 +479,7 @@ TEST(ReferenceLightTest, ASolidThroughTheLaunchPlaneCastsItsWholeShadow) {
   // The shadows of the axis at 45 mm (above the launch plane at 41 mm) and
   // at 35 mm (below it), the cylinder's radius from the shadow's edges.
   for (const double z : {0.045, 0.035}) {
-    const double e = irradiance_at(shadow_of(z));
+    const double e = irradiance_at(-ShadowRun(rs, z));
     std::printf("floor under the axis's shadow at z = %.3f m: %.4f of lit\n", z,
                 e / lit);
     EXPECT_LT(e, 0.02 * lit) << z;

@@ -20,6 +20,9 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-caustics", args->no_caustics,
                 "Disable the caustics pass");
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
+  sub->add_flag("--no-tank-shadow", args->no_tank_shadow,
+                "Leave the board around the tank as the video shows it (no "
+                "shadow of the tank, no light through or off its glass)");
   sub->add_option("--shadows", args->shadows,
                   "Shadow map filter: pcf (4 bilinear taps; the default), "
                   "gauss (Gaussian-weighted 3x3 taps, a smooth semi-soft "
@@ -174,6 +177,7 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.window = *backend == render::Backend::kGlfw;
   o.effects.caustics = !args->no_caustics;
   o.effects.shadows = !args->no_shadows;
+  o.effects.tank_shadow = !args->no_tank_shadow;
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.occluders = !args->no_occluders;

@@ -113,10 +113,20 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
     s.pen.shaft_length = static_cast<float>(rig.pen->shaft_length_m);
   }
   if (options.occluders) {
+    // Hands over the board around the tank too, where the renderer draws
+    // the tank's shadow.
+    tracking::CleanPlateOptions plate_options = options.clean_plate;
+    if (options.effects.tank_shadow) {
+      plate_options.surround_m =
+          render::TankShadowReach(s.tank, options.renderer.optics);
+      plate_options.margin_m =
+          std::max(plate_options.margin_m, plate_options.surround_m);
+    }
+    plate_options.grow_px = std::max(plate_options.grow_px, 1);
     p->plate_ = std::make_unique<tracking::CleanPlate>(
         camera, rig.tank.size_x_m, rig.tank.size_y_m,
         std::max(rig.tank.wall_height_m, rig.tank.water_level_m + 0.01),
-        options.clean_plate);
+        plate_options);
     if (options.board_floor) {
       cv::Mat levels, valid;
       const cv::Point2d o = p->plate_->plate_origin_m();

@@ -61,6 +61,7 @@ constexpr EffectSwitch kEffects[] = {
     {"shadows", &render::Effects::shadows},
     {"caustics", &render::Effects::caustics},
     {"walls", &render::Effects::walls},
+    {"tank_shadow", &render::Effects::tank_shadow},
 };
 constexpr int kNumEffects = sizeof(kEffects) / sizeof(kEffects[0]);
 
@@ -80,6 +81,22 @@ cv::Mat EncodeLikeTheDisplay(const cv::Mat& linear, double knee) {
     }
   }
   return out;
+}
+
+// The pixels where two renders differ by more than `levels` in any channel
+// (the sum of the channels' differences), grown by a disc `grow` pixels
+// across (0: not grown).
+cv::Mat ChangedPixels(const cv::Mat& a, const cv::Mat& b, int levels,
+                      int grow) {
+  cv::Mat diff, changed;
+  cv::absdiff(a, b, diff);
+  cv::transform(diff, changed, cv::Matx13f(1, 1, 1));
+  changed = changed > levels;
+  if (grow > 0) {
+    cv::dilate(changed, changed,
+               cv::getStructuringElement(cv::MORPH_ELLIPSE, {grow, grow}));
+  }
+  return changed;
 }
 
 struct SceneResult {
@@ -107,6 +124,10 @@ struct SceneResult {
   // changes by more than 3 levels, inside the water; -1: none. Compares the
   // reflection maps (--reflection).
   double flip_reflection = -1;
+  // FLIP on the board around the tank, outside the water: the pixels that
+  // the tank's shadow on or off changes by more than a level, grown by 4
+  // px; with it and without it. -1: none.
+  double flip_board = -1, flip_board_off = -1;
   double envmap_ms = 0;  // the cube map's rebuild (0 for the fold)
 };
 
@@ -121,8 +142,12 @@ void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
                  render::SceneInputs* in) {
   const render::TankGeometry& t = rs.scene.tank;
   const double top = std::max(t.wall_height, t.water_level + 0.01f);
+  // As the pipeline makes it: hands over the board around the tank too.
+  tracking::CleanPlateOptions po;
+  po.surround_m = render::TankShadowReach(t, render::WaterOptics());
+  po.margin_m = std::max(po.margin_m, po.surround_m);
   *plate = std::make_unique<tracking::CleanPlate>(rs.camera, t.size_x, t.size_y,
-                                                  top);
+                                                  top, po);
   auto pose = [](const glm::dmat4& m) {
     const Eigen::Matrix4d e = Eigen::Map<const Eigen::Matrix4d>(&m[0][0]);
     return tracking::Pose::FromMatrix(
@@ -327,7 +352,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
-         "flip_hand_without_mask,flip_shadow,flip_reflection,main_ms,"
+         "flip_hand_without_mask,flip_shadow,flip_reflection,flip_board,"
+         "flip_board_without_tank_shadow,main_ms,"
          "caustics_ms,shadow_ms,envmap_ms,reference_s\n";
   std::printf(
       "mean LDR-FLIP inside the water, real-time (reflection %s) against "
@@ -336,14 +362,16 @@ int RunBenchRender(const RenderBenchArgs& args) {
       refo.light_paths_per_texel);
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
-  std::printf(" | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s %6s %6s | %6s\n",
-              "noise", "pen", "hand", "pen", "hand", "shadow", "refl", "main",
-              "caust", "shadow", "envmap", "ref_s");
+  std::printf(
+      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s | %6s\n",
+      "noise", "pen", "hand", "pen", "hand", "shadow", "refl", "board", "board",
+      "main", "caust", "shadow", "envmap", "ref_s");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
-  std::printf(" | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s %6s %6s |\n", "floor",
-              "FLIP", "FLIP", "plain", "plain", "FLIP", "FLIP", "ms", "ms",
-              "ms", "ms");
+  std::printf(
+      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s |\n",
+      "floor", "FLIP", "FLIP", "plain", "plain", "FLIP", "FLIP", "FLIP", "off",
+      "ms", "ms", "ms", "ms");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -471,21 +499,19 @@ int RunBenchRender(const RenderBenchArgs& args) {
         return Fail(kExitRuntime, "scene '" + s.name + "': effect run failed");
       res.flip_off[e] = bench::MeanFlip(m, mask);
       if (kEffects[e].flag == &render::Effects::shadows) {
-        cv::Mat diff, window;
-        cv::absdiff(realtime, img, diff);
-        cv::transform(diff, window, cv::Matx13f(1, 1, 1));  // any channel
-        window = window > 3;
-        cv::dilate(window, window,
-                   cv::getStructuringElement(cv::MORPH_ELLIPSE, {13, 13}));
-        window &= mask;
+        cv::Mat window = ChangedPixels(realtime, img, 3, 13) & mask;
         if (cv::countNonZero(window) > 0)
           res.flip_shadow = bench::MeanFlip(flip_map, window);
       }
+      if (kEffects[e].flag == &render::Effects::tank_shadow) {
+        const cv::Mat window = ChangedPixels(realtime, img, 1, 9) & ~mask;
+        if (cv::countNonZero(window) > 0) {
+          res.flip_board = bench::MeanFlip(flip_map, window);
+          res.flip_board_off = bench::MeanFlip(m, window);
+        }
+      }
       if (kEffects[e].flag == &render::Effects::reflection) {
-        cv::Mat diff, window;
-        cv::absdiff(realtime, img, diff);
-        cv::transform(diff, window, cv::Matx13f(1, 1, 1));  // any channel
-        window = (window > 3) & mask;
+        const cv::Mat window = ChangedPixels(realtime, img, 3, 0) & mask;
         refl_window = window;
         if (cv::countNonZero(window) > 0)
           res.flip_reflection = bench::MeanFlip(flip_map, window);
@@ -568,15 +594,18 @@ int RunBenchRender(const RenderBenchArgs& args) {
       return std::string(b);
     };
     std::printf(
-        " | %6.4f | %s %s %s %s %s %s | %6.2f %6.2f %6.2f %6.2f | %6.1f\n",
+        " | %6.4f | %s %s %s %s %s %s | %s %s | %6.2f %6.2f %6.2f %6.2f | "
+        "%6.1f\n",
         res.noise_floor, window(res.flip_pen).c_str(),
         window(res.flip_hand).c_str(), window(res.flip_pen_plain).c_str(),
         window(res.flip_hand_plain).c_str(), window(res.flip_shadow).c_str(),
-        window(res.flip_reflection).c_str(), res.main_ms, res.caustics_ms,
+        window(res.flip_reflection).c_str(), window(res.flip_board).c_str(),
+        window(res.flip_board_off).c_str(), res.main_ms, res.caustics_ms,
         res.shadow_ms, res.envmap_ms, res.reference_s);
     csv << ',' << res.noise_floor << ',' << res.flip_pen << ',' << res.flip_hand
         << ',' << res.flip_pen_plain << ',' << res.flip_hand_plain << ','
-        << res.flip_shadow << ',' << res.flip_reflection << ',' << res.main_ms
+        << res.flip_shadow << ',' << res.flip_reflection << ','
+        << res.flip_board << ',' << res.flip_board_off << ',' << res.main_ms
         << ',' << res.caustics_ms << ',' << res.shadow_ms << ','
         << res.envmap_ms << ',' << res.reference_s << '\n';
     std::fflush(stdout);

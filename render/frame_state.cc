@@ -233,6 +233,12 @@ glm::ivec4 OutputWindow(const FrameState& f, int pad) {
     ObstacleBoxCorners(o, corners);
     r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 8, pad, w, h));
   }
+  const glm::dvec4& b = f.board_light_rect;
+  if (b.x < b.z && b.y < b.w) {
+    const glm::dvec3 corners[4] = {
+        {b.x, b.y, 0.0}, {b.z, b.y, 0.0}, {b.x, b.w, 0.0}, {b.z, b.w, 0.0}};
+    r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 4, pad, w, h));
+  }
   return r;
 }
 

@@ -31,8 +31,9 @@ enum TextureUnit : int {
   kUnitOccluders = 10,
   kUnitPlate = 11,
   kUnitMirror = 12,
-  kUnitEnvCube = 13,  // samplerCube: the environment (pass_envmap.h)
-  kUnitSky = 14,      // samplerCube: the daylight sky (pass_envmap.h)
+  kUnitEnvCube = 13,     // samplerCube: the environment (pass_envmap.h)
+  kUnitSky = 14,         // samplerCube: the daylight sky (pass_envmap.h)
+  kUnitBoardLight = 15,  // the board's light around the tank
 };
 
 // The height texture's mapping (HeightTexturePass).
@@ -116,6 +117,9 @@ struct FrameState {
   glm::dmat3 cube_from_tank{1.0};  // the environment cube's frame
   bool srgb_output = true;
   GroundRadiance ground;  // the obstacles' surroundings (MeasureGroundRadiance)
+  // The board around the tank that the board-light pass changes (tank frame
+  // x0, y0, x1, y1, metres, z = 0); empty (x0 >= x1) when it is off.
+  glm::dvec4 board_light_rect{0.0};
 };
 
 // `optics` must outlive the frame; `shading` is left for the caller, which

@@ -148,6 +148,11 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
   uploaded_ = true;
 }
 
+void WaterPass::UpdateFloorLight(const FrameState& f) {
+  UpdateFloorReturn(f);
+  UpdateFloorSeen(f);
+}
+
 void WaterPass::UpdateFloorSeen(const FrameState& f) {
   // No frame this time: the last one's floor stands; the light may move.
   const VideoFrame& v = f.scene->video;
@@ -391,8 +396,6 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // (b) One shading per marked pixel, in the water's screen rectangle: the
   // tank interior between 1 cm under and over the rest level, whatever the
   // waves.
-  UpdateFloorReturn(f);
-  UpdateFloorSeen(f);
   glActiveTexture(GL_TEXTURE0 + kUnitFloorReturn);
   glBindTexture(GL_TEXTURE_2D, floor_return_tex_.id());
   state.Disable(GL_DEPTH_TEST);

@@ -10,6 +10,7 @@
 #include "render/frame_target.h"
 #include "render/gl.h"
 #include "render/meshes.h"
+#include "render/pass_board_light.h"
 #include "render/pass_caustics.h"
 #include "render/pass_envmap.h"
 #include "render/pass_height.h"
@@ -136,6 +137,7 @@ struct Renderer::Impl {
   internal::RealObjectsPass real;
   internal::MirrorPass mirror;
   internal::EnvMapPass envmap;
+  internal::BoardLightPass board_light;
   internal::RealObjectsState real_state;
   PassTimer timer;
   // The last video frame given (the caller's buffer) and the window it was
@@ -207,7 +209,8 @@ bool Renderer::Impl::Init(std::string* error) {
       !walls.Create(walls_options, error) || !present.Create(error) ||
       !real.Create(srgb, error) ||
       !mirror.Create({o.obstacle_albedo, o.reflection_fade_m}, error) ||
-      !envmap.Create(envmap_options, error)) {
+      !envmap.Create(envmap_options, error) ||
+      !board_light.Create(internal::BoardLightOptions{}, error)) {
     return false;
   }
   if (o.daylight) {
@@ -349,11 +352,18 @@ bool Renderer::Render(const SceneInputs& scene,
   internal::FrameState f = internal::MakeFrameState(
       scene, m.k, m.options.optics, m.options.video_transfer);
   f.shading = m.Shading(scene);
-  if (!scene.obstacles.empty() && scene.video.bgr != nullptr) {
+  const bool tank_shadow =
+      fx.tank_shadow && (scene.video.bgr != nullptr || m.video.have_video());
+  if ((!scene.obstacles.empty() || tank_shadow) && scene.video.bgr != nullptr) {
     m.ground =
         internal::MeasureGroundRadiance(scene, m.k, f.srgb_output, m.ground);
   }
   f.ground = m.ground;
+  m.water.UpdateFloorLight(f);
+  if (tank_shadow) {
+    m.board_light.Update(f, m.water.floor_return_light().floor_seen);
+    f.board_light_rect = m.board_light.rect();
+  }
   const glm::ivec4 window = m.Window(scene.video, &f);
   m.timings.window = window;
 
@@ -402,6 +412,7 @@ bool Renderer::Render(const SceneInputs& scene,
   m.target.BeginFrame(/*keep_color=*/m.video.have_video(), window);
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
+  if (tank_shadow) m.board_light.Draw(f, m.real_state);
   m.obstacles.Draw(f, m.target.fbo(), m.solids);
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (fx.walls) {

@@ -237,6 +237,12 @@ struct PassTimings {
 glm::ivec4 LetterboxRect(int image_width, int image_height, int window_width,
                          int window_height);
 
+// How far beyond the tank's inner outline the board around it may change
+// (Effects::tank_shadow: the tank's shadow, the light its glass sends down,
+// the sky it hides), metres: an occluder over that board must be in the
+// occluder mask to keep its pixels.
+double TankShadowReach(const TankGeometry& tank, const WaterOptics& optics);
+
 class Renderer {
  public:
   ~Renderer();

@@ -95,6 +95,9 @@ struct Effects {
   bool shadows = true;       // shadow map
   bool caustics = true;      // Nishita-Nakamae caustics map
   bool pen_occludes = true;  // pen phantom in depth
+  // The tank's shadow and the sky it hides on the video's board around it
+  // (pass_board_light.h).
+  bool tank_shadow = true;
   // The real pen and occluders in the water's refraction: the submerged
   // shaft seen bent, floor points the video does not show read from the
   // clean plate (off: the floor is read from the video wherever it is).

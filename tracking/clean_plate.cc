@@ -40,6 +40,8 @@ bool CleanPlateOptions::IsValid(std::string* error) const {
   if (!(texel_m > 1e-4 && texel_m < 0.02))
     return fail("texel must be 0.1-20 mm");
   if (!(margin_m >= 0 && margin_m < 1)) return fail("margin must be 0-1 m");
+  if (!(surround_m >= 0 && surround_m <= margin_m))
+    return fail("surround must be 0 to the margin");
   if (!(low_threshold > 0 && high_threshold >= low_threshold &&
         high_threshold < 256))
     return fail("thresholds must satisfy 0 < low <= high < 256");
@@ -151,6 +153,11 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   summary_ = CleanPlateSummary();
   cv::Rect window =
       TankWindow(camera_, cam_from_tank, size_x_m_, size_y_m_, box_top_m_, 4);
+  const double surround = std::min(options_.surround_m, options_.margin_m);
+  if (surround > 0) {
+    window |= TankWindow(camera_, cam_from_tank, size_x_m_ + 2 * surround,
+                         size_y_m_ + 2 * surround, 0.0, 4);
+  }
   // The last window's mask is cleared; the new one is written below.
   if (window_.area() > 0) foreground_(window_).setTo(0);
   window &= cv::Rect(0, 0, camera_.width, camera_.height);
@@ -211,6 +218,11 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
     by0 = std::min(by0, q.y());
     by1 = std::max(by1, q.y());
   }
+  // ... and the board around it that the renderer changes.
+  bx0 = std::min(bx0, -0.5 * size_x_m_ - surround);
+  bx1 = std::max(bx1, 0.5 * size_x_m_ + surround);
+  by0 = std::min(by0, -0.5 * size_y_m_ - surround);
+  by1 = std::max(by1, 0.5 * size_y_m_ + surround);
   x0 = std::max(x0, (bx0 - origin_m_.x) / s - 0.5);
   x1 = std::min(x1, (bx1 - origin_m_.x) / s - 0.5);
   y0 = std::max(y0, (by0 - origin_m_.y) / s - 0.5);

@@ -67,6 +67,11 @@ struct CleanPlateOptions {
   // what the walls show of the board behind them (a 40 mm wall seen from
   // 30 degrees above the board shows 69 mm behind it).
   double margin_m = 0.08;
+  // Board around the tank's inner outline where occluders are looked for
+  // too, metres (at most margin_m): the renderer changes it (the tank's
+  // shadow, the light its glass sends down), so a hand over it must be
+  // known. 0: only the board the tank's box hides.
+  double surround_m = 0.0;
   // Colour difference beyond the plate's neighbourhood range, 8-bit levels
   // of the frame's encoding (largest over the channels): seeds of a region,
   // and the level its pixels must reach.

@@ -1,7 +1,7 @@
-// The effects passes on EGL (llvmpipe in CI): shadow on and off, caustics from
-// a single ripple, the pen dipped into the water (its phantom hides the
-// water in front of it), the redraw-only-when-changed rules, and the GL
-// state every pass returns to.
+// The effects passes on EGL (llvmpipe in CI): shadow on and off, the tank's
+// shadow on the board around it, caustics from a single ripple, the pen dipped
+// into the water (its phantom hides the water in front of it), the
+// redraw-only-when-changed rules, and the GL state every pass returns to.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +10,7 @@
 #include <opencv2/core.hpp>
 #include <vector>
 
+#include "render/board_light.h"
 #include "render/gl.h"
 #include "render/pass_height.h"
 #include "render/pass_water.h"
@@ -33,6 +34,30 @@ double MapMean(const std::vector<glm::vec3>& m, int c) {
   double sum = 0;
   for (const glm::vec3& t : m) sum += t[c];
   return sum / m.size();
+}
+
+// The tank floor's radiance as the air above flat water sees it (the water
+// pass's FloorReturnLight::floor_seen), band `rgb`, for a video of one grey
+// on the floor and another on the board around: the floor's mean light
+// (the sky and the light through the surface, the surroundings through the
+// walls from the board's grey), the surface's return, over n^2.
+double FloorSeen(const RendererOptions& o, const SceneInputs& in,
+                 std::uint8_t floor_grey, std::uint8_t board_grey, int rgb) {
+  const TankGeometry& t = in.tank;
+  const WaterShading sh =
+      ComputeWaterShading(o.optics, t.water_level, in.light_in_tank);
+  const FloorReturnMap ret = ComputeFloorReturn(
+      o.optics, t.size_x, t.size_y, t.water_level,
+      internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
+      internal::WaterPass::kReturnRays);
+  const double board = SrgbToLinear(board_grey / 255.0);
+  double light_mean =
+      sh.floor_sky[rgb] + sh.floor_sun[rgb] + MapMean(ret.sky, rgb);
+  for (const std::vector<glm::vec3>& b : ret.board)
+    light_mean += MapMean(b, rgb) * board;
+  const double back = MapMean(ret.returned, rgb);
+  const double rho = SrgbToLinear(floor_grey / 255.0);
+  return rho / (1.0 - back * std::min(rho, 0.95)) * light_mean * sh.inv_n2;
 }
 
 // The pixel (x, y) on which tank point p projects (the scene's pinhole).
@@ -805,6 +830,92 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(far_red[c], far_green[c], 1) << c;
 }
 
+// The tank's shadow on the board around it (pass_board_light.h): over a
+// uniform grey video, board points in front of the tank read the grey times
+// the factor that the board-light model gives there (its light through the
+// highlight shoulder, encoded, over the board's), bilinear between texels:
+// in the water column's shadow (at least 20 levels darker), beyond it, at
+// the corner the light's glass lights, and far out; the video unchanged
+// without the effect and beyond the map.
+TEST(EffectsTest, TheTanksShadowOnTheBoardIsTheBoardLightModels) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  const RendererOptions o;
+  auto r = Renderer::TryCreate(ctx.get(), testing::MakeIntrinsics(kW, kH), o,
+                               nullptr);
+  ASSERT_NE(r, nullptr);
+  const std::uint8_t grey = 200;
+  TestScene s = MakeScene(kW, kH, View::kFront, false);
+  std::fill(s.video.begin(), s.video.end(), grey);
+  const cv::Mat on = RenderScene(r.get(), s.inputs);
+  s.inputs.effects.tank_shadow = false;
+  const cv::Mat off = RenderScene(r.get(), s.inputs);
+
+  // The model for this tank and light, on a board of the video's grey.
+  const TankGeometry& t = s.inputs.tank;
+  const glm::dvec3 light = glm::normalize(s.inputs.light_in_tank);
+  internal::BoardLightMap map =
+      internal::BoardLightLayout(t, o.optics, internal::BoardLightOptions{});
+  internal::ComputeBoardSkyView(t, o.optics, internal::BoardLightOptions{},
+                                &map);
+  internal::ComputeBoardDirectLight(t, o.optics, light,
+                                    internal::BoardLightOptions{}, &map);
+  const WaterShading sh = ComputeWaterShading(o.optics, t.water_level, light);
+  float under_glass = 0;
+  for (const glm::vec3& u : sh.under_glass) under_glass += 0.25f * u.g;
+  const double g = SrgbToLinear(grey / 255.0);
+  const double knee = o.optics.highlight_knee;
+  // In front of the front wall (seen directly): in the water column's
+  // shadow, beyond it, at the lit front-right corner; and far out.
+  const double fy = map.outer_y;
+  struct Probe {
+    glm::dvec2 at;
+    double min_change;  // levels the tank must move it by, at least
+  } probes[] = {{{0.0, -fy - 0.003}, 20.0},
+                {{0.0, -fy - 0.014}, 0.5},
+                {{map.outer_x + 0.008, -fy - 0.004}, 0.5},
+                {{-map.outer_x - 0.03, -fy - 0.02}, 0.0}};
+  // The floor's radiance over the board's, as the water pass saw it.
+  const float floor_radiance =
+      static_cast<float>(FloorSeen(o, s.inputs, grey, grey, 1) / g);
+  // What the pass multiplies the encoded board by at a texel: the board's
+  // light through the shoulder, encoded, over the board's encoding.
+  auto factor = [&](int i, int j) {
+    const glm::vec4 v = map.Texel(i, j, o.optics, floor_radiance, under_glass);
+    const double f = v.g + g * v.a;
+    const double shown =
+        g + HighlightShoulder(g * f, knee) - HighlightShoulder(g, knee);
+    return std::clamp(
+        LinearToSrgb(std::clamp(shown, 0.0, 1.0)) / LinearToSrgb(g), 0.5, 1.5);
+  };
+  const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  for (const Probe& p : probes) {
+    const cv::Point px = ImagePoint(s, glm::dvec3(p.at, 0.0));
+    ASSERT_TRUE(cv::Rect(0, 0, kW, kH).contains(px));
+    // The board point the pixel's centre sees, and the map there
+    // (bilinear between texel centres, as the shader's lookup).
+    const glm::dvec3 ray(tank_from_cam * glm::dvec4((px.x - s.k.cx) / s.k.fx,
+                                                    (px.y - s.k.cy) / s.k.fy,
+                                                    1.0, 0.0));
+    const glm::dvec3 b = eye + ray * (eye.z / -ray.z);
+    const double u = (b.x - map.origin.x) / map.texel - 0.5;
+    const double v = (b.y - map.origin.y) / map.texel - 0.5;
+    const int i = static_cast<int>(std::floor(u));
+    const int j = static_cast<int>(std::floor(v));
+    const double a = u - i, c = v - j;
+    const double f =
+        (1 - c) * ((1 - a) * factor(i, j) + a * factor(i + 1, j)) +
+        c * ((1 - a) * factor(i, j + 1) + a * factor(i + 1, j + 1));
+    const double expected = grey * f;
+    const double seen = on.at<cv::Vec3b>(px)[1];
+    EXPECT_NEAR(seen, expected, 1.0) << b.x << " " << b.y << " f " << f;
+    EXPECT_GE(std::abs(seen - grey), p.min_change) << b.x << " " << b.y;
+    EXPECT_EQ(off.at<cv::Vec3b>(px)[1], grey) << b.x << " " << b.y;
+  }
+  // Beyond the map the video is untouched.
+  EXPECT_EQ(on.at<cv::Vec3b>(2, 2), cv::Vec3b(grey, grey, grey));
+}
+
 // A glass wall seen from inside the tank (the back wall from the front) is a
 // vertical mirror whose image goes down into the tank: above the water it
 // shows the water near the walls, the floor under it lit as the floor's
@@ -851,27 +962,12 @@ TEST(EffectsTest, BackGlassMirrorsTheWaterBelowIt) {
     return RenderScene(r.get(), s.inputs).at<cv::Vec3b>(at);
   };
   const cv::Vec3b dark = render(60), light = render(200);
-  // The prediction: the floor's mean light (sky, direct light, the
-  // surroundings through the walls from the board's grey) and the return.
-  const WaterShading sh =
-      ComputeWaterShading(o.optics, t.water_level, base.inputs.light_in_tank);
-  const FloorReturnMap ret = ComputeFloorReturn(
-      o.optics, t.size_x, t.size_y, t.water_level,
-      internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
-      internal::WaterPass::kReturnRays);
-  const double board = SrgbToLinear(board_grey / 255.0);
   const double r_glass = 2.0 * FresnelReflectance(std::abs(v.y), 1.0, 1.5);
   const double t_surface = 1.0 - FresnelReflectance(-v.z, 1.0, o.optics.ior);
   for (int c = 0; c < 3; ++c) {  // B, G, R
     const int rgb = 2 - c;
-    double light_mean =
-        sh.floor_sky[rgb] + sh.floor_sun[rgb] + MapMean(ret.sky, rgb);
-    for (const std::vector<glm::vec3>& b : ret.board)
-      light_mean += MapMean(b, rgb) * board;
-    const double back = MapMean(ret.returned, rgb);
     auto seen = [&](std::uint8_t grey) {
-      const double rho = SrgbToLinear(grey / 255.0);
-      return rho / (1.0 - back * std::min(rho, 0.95)) * light_mean * sh.inv_n2;
+      return FloorSeen(o, base.inputs, grey, board_grey, rgb);
     };
     // Over the water the glass blends on encoded values to first order: the
     // reflected linear radiance enters at 0.66 x (walls.frag).

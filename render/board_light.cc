@@ -1,0 +1,451 @@
+#include "render/board_light.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace ripple::render::internal {
+namespace {
+
+constexpr double kInf = 1e30;
+constexpr double kStep = 1e-7;       // metres past an interface
+constexpr double kMinWeight = 1e-3;  // a branch lighter than this ends
+constexpr int kMaxDepth = 24;        // interfaces along one path
+
+enum class Medium { kAirOutside, kAirInside, kGlass, kWater };
+enum class End { kSky, kBoard, kUnderGlass, kFloor };
+
+// The flat tank: inner half sizes a, b; outer A, B; walls H tall; water up
+// to W; refractive indices and the water's absorption per band.
+struct Tank {
+  double a, b, A, B, H, W;
+  double n_water, n_glass;
+  glm::dvec3 sigma;
+};
+
+double IndexOf(const Tank& t, Medium m) {
+  return m == Medium::kWater ? t.n_water
+                             : (m == Medium::kGlass ? t.n_glass : 1.0);
+}
+
+// The next interface or end of a path in one medium.
+struct Event {
+  double t = kInf;
+  glm::dvec3 n{0.0};  // the interface's normal, against the ray
+  Medium next = Medium::kAirOutside;
+  bool interface = true;  // false: the medium changes without one (the
+                          // open top of the tank), or the path ends
+  bool ends = false;
+  End end = End::kSky;
+};
+
+Event NormalAgainst(Event e, int axis, const glm::dvec3& d) {
+  e.n = glm::dvec3(0.0);
+  e.n[axis] = d[axis] > 0 ? -1.0 : 1.0;
+  return e;
+}
+
+Event AirOutside(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
+  // Entering the outer box [-A, A] x [-B, B] x [0, H].
+  double t0 = -kInf, t1 = kInf;
+  int axis = -1;
+  const double lo[3] = {-t.A, -t.B, 0.0}, hi[3] = {t.A, t.B, t.H};
+  for (int k = 0; k < 3; ++k) {
+    if (d[k] == 0.0) {
+      if (o[k] < lo[k] || o[k] > hi[k]) t0 = kInf;
+      continue;
+    }
+    double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
+    if (ta > tb) std::swap(ta, tb);
+    if (ta > t0) {
+      t0 = ta;
+      axis = k;
+    }
+    t1 = std::min(t1, tb);
+  }
+  Event e;
+  if (axis >= 0 && t0 < t1 && t0 > 0.0 && t0 < kInf) {
+    e.t = t0;
+    const glm::dvec3 p = o + t0 * d;
+    if (axis == 2 && std::abs(p.x) < t.a && std::abs(p.y) < t.b) {
+      e.interface = false;  // down through the open top
+      e.next = Medium::kAirInside;
+      return e;
+    }
+    e.next = Medium::kGlass;
+    return NormalAgainst(e, axis, d);
+  }
+  e.ends = true;
+  if (d.z < 0.0) {
+    e.t = -o.z / d.z;
+    e.end = End::kBoard;
+  } else {
+    e.end = End::kSky;
+  }
+  return e;
+}
+
+// Inside the inner column: to its side faces, and the floor or top.
+Event InColumn(const Tank& t, const glm::dvec3& o, const glm::dvec3& d,
+               bool water) {
+  const double tx = d.x == 0.0 ? kInf : ((d.x > 0 ? t.a : -t.a) - o.x) / d.x;
+  const double ty = d.y == 0.0 ? kInf : ((d.y > 0 ? t.b : -t.b) - o.y) / d.y;
+  const double lower = water ? 0.0 : t.W, upper = water ? t.W : t.H;
+  const double tz = d.z > 0   ? (upper - o.z) / d.z
+                    : d.z < 0 ? (lower - o.z) / d.z
+                              : kInf;
+  Event e;
+  if (tz <= tx && tz <= ty) {
+    e.t = std::max(tz, 0.0);
+    if (water && d.z < 0) {  // the tank's floor
+      e.ends = true;
+      e.end = End::kFloor;
+      return e;
+    }
+    if (!water && d.z > 0) {  // up out of the open top
+      e.interface = false;
+      e.next = Medium::kAirOutside;
+      return e;
+    }
+    e.next = water ? Medium::kAirInside : Medium::kWater;
+    return NormalAgainst(e, 2, d);
+  }
+  e.t = std::max(std::min(tx, ty), 0.0);
+  e.next = Medium::kGlass;
+  return NormalAgainst(e, tx < ty ? 0 : 1, d);
+}
+
+Event InGlass(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
+  // Leaving the outer box.
+  const double ex = d.x == 0.0 ? kInf : ((d.x > 0 ? t.A : -t.A) - o.x) / d.x;
+  const double ey = d.y == 0.0 ? kInf : ((d.y > 0 ? t.B : -t.B) - o.y) / d.y;
+  const double ez = d.z > 0 ? (t.H - o.z) / d.z : d.z < 0 ? -o.z / d.z : kInf;
+  const double t_exit = std::max(std::min({ex, ey, ez}), 0.0);
+  // Entering the inner column |x| < a, |y| < b.
+  double c0 = -kInf, c1 = kInf;
+  int c_axis = -1;
+  bool column = true;
+  const double h[2] = {t.a, t.b};
+  for (int k = 0; k < 2; ++k) {
+    if (d[k] == 0.0) {
+      if (std::abs(o[k]) >= h[k]) column = false;
+      continue;
+    }
+    double ta = (-h[k] - o[k]) / d[k], tb = (h[k] - o[k]) / d[k];
+    if (ta > tb) std::swap(ta, tb);
+    if (ta > c0) {
+      c0 = ta;
+      c_axis = k;
+    }
+    c1 = std::min(c1, tb);
+  }
+  Event e;
+  if (column && c_axis >= 0 && c0 < c1 && c0 > 0.0 && c0 < t_exit) {
+    e.t = c0;
+    const double z = o.z + c0 * d.z;
+    e.next = z < t.W ? Medium::kWater : Medium::kAirInside;
+    return NormalAgainst(e, c_axis, d);
+  }
+  e.t = t_exit;
+  if (ez <= ex && ez <= ey && d.z < 0) {
+    e.ends = true;
+    e.end = End::kUnderGlass;
+    return e;
+  }
+  e.next = Medium::kAirOutside;
+  return NormalAgainst(e, ex <= ey && ex <= ez ? 0 : (ey <= ez ? 1 : 2), d);
+}
+
+// Follows o + s d from medium m, splitting at every interface, and calls
+// end(kind, point, weight) for each branch that reaches the sky, the board
+// outside, the board under the glass or the tank's floor.
+template <class F>
+void Trace(const Tank& t, glm::dvec3 o, glm::dvec3 d, Medium m, glm::dvec3 w,
+           int depth, F& end) {
+  while (true) {
+    Event e;
+    switch (m) {
+      case Medium::kAirOutside:
+        e = AirOutside(t, o, d);
+        break;
+      case Medium::kAirInside:
+        e = InColumn(t, o, d, false);
+        break;
+      case Medium::kWater:
+        e = InColumn(t, o, d, true);
+        break;
+      case Medium::kGlass:
+        e = InGlass(t, o, d);
+        break;
+    }
+    if (m == Medium::kWater) {
+      const double s = std::min(e.t, 1.0);
+      w *= glm::dvec3(std::exp(-t.sigma.x * s), std::exp(-t.sigma.y * s),
+                      std::exp(-t.sigma.z * s));
+    }
+    if (e.ends) {
+      end(e.end, e.end == End::kSky ? o : o + e.t * d, w);
+      return;
+    }
+    const glm::dvec3 p = o + e.t * d;
+    if (!e.interface) {
+      o = p + kStep * d;
+      m = e.next;
+      continue;
+    }
+    if (++depth > kMaxDepth) return;
+    const double n1 = IndexOf(t, m), n2 = IndexOf(t, e.next);
+    const double ci = -glm::dot(d, e.n);
+    const double f = FresnelReflectance(ci, n1, n2);
+    const glm::dvec3 r = d + 2.0 * ci * e.n;
+    if (f < 1.0 && (1.0 - f) * std::max({w.x, w.y, w.z}) > kMinWeight) {
+      const double eta = n1 / n2;
+      const double k = 1.0 - eta * eta * (1.0 - ci * ci);
+      const glm::dvec3 tr = eta * d + (eta * ci - std::sqrt(k)) * e.n;
+      Trace(t, p + kStep * tr, tr, e.next, w * (1.0 - f), depth, end);
+    }
+    w *= f;
+    if (std::max({w.x, w.y, w.z}) <= kMinWeight) return;
+    o = p + kStep * r;
+    d = r;
+  }
+}
+
+Tank MakeTank(const TankGeometry& g, const WaterOptics& o) {
+  Tank t;
+  t.a = 0.5 * g.size_x;
+  t.b = 0.5 * g.size_y;
+  t.A = t.a + o.glass_thickness_m;
+  t.B = t.b + o.glass_thickness_m;
+  t.H = g.wall_height;
+  t.W = std::clamp(static_cast<double>(g.water_level), 1e-6, t.H - 1e-6);
+  t.n_water = o.ior;
+  t.n_glass = o.glass_ior;
+  t.sigma = glm::dvec3(o.absorption_per_m);
+  return t;
+}
+
+glm::dvec3 TexelCentre(const BoardLightMap& m, int i, int j) {
+  return {m.origin.x + (i + 0.5) * m.texel, m.origin.y + (j + 0.5) * m.texel,
+          0.0};
+}
+
+}  // namespace
+
+bool BoardLightMap::InFootprint(double x, double y) const {
+  return std::abs(x) < outer_x && std::abs(y) < outer_y;
+}
+
+glm::vec4 BoardLightMap::Texel(int i, int j, const WaterOptics& optics,
+                               float floor_radiance,
+                               float under_glass_light) const {
+  const glm::dvec3 p = TexelCentre(*this, i, j);
+  if (InFootprint(p.x, p.y)) {
+    // Out to the nearest side of the footprint, and one texel beyond it.
+    const double to_x = outer_x - std::abs(p.x), to_y = outer_y - std::abs(p.y);
+    const int steps = static_cast<int>(std::ceil(std::min(to_x, to_y) / texel));
+    if (to_x < to_y) {
+      i += p.x < 0 ? -steps : steps;
+    } else {
+      j += p.y < 0 ? -steps : steps;
+    }
+    i = std::clamp(i, 0, nx - 1);
+    j = std::clamp(j, 0, ny - 1);
+  }
+  const int k = j * nx + i;
+  // The sky's view, bilinear between its texel centres.
+  const glm::dvec3 c = TexelCentre(*this, i, j);
+  const double u =
+      std::clamp((c.x - view.origin.x) / view.texel - 0.5, 0.0, view.nx - 1.0);
+  const double v =
+      std::clamp((c.y - view.origin.y) / view.texel - 0.5, 0.0, view.ny - 1.0);
+  const int i0 = std::min(static_cast<int>(u), view.nx - 2);
+  const int j0 = std::min(static_cast<int>(v), view.ny - 2);
+  const float fu = static_cast<float>(u - i0), fv = static_cast<float>(v - j0);
+  glm::vec3 sky(0.0f);
+  float diffuse = 0;
+  for (int dj = 0; dj < 2; ++dj) {
+    for (int di = 0; di < 2; ++di) {
+      const float w = (di ? fu : 1 - fu) * (dj ? fv : 1 - fv);
+      const size_t q = static_cast<size_t>(j0 + dj) * view.nx + i0 + di;
+      sky += w * view.sky[q];
+      diffuse += w * (view.board[q] + view.floor[q] * floor_radiance +
+                      view.under_glass[q] * under_glass_light);
+    }
+  }
+  const float a = optics.ambient_share;
+  const glm::vec3 rgb =
+      a * optics.sky_tint * sky + (1.0f - a) * optics.sun_tint * direct[k];
+  return {rgb, diffuse};
+}
+
+BoardLightMap BoardLightLayout(const TankGeometry& tank,
+                               const WaterOptics& optics,
+                               const BoardLightOptions& options) {
+  BoardLightMap m;
+  m.outer_x = 0.5 * tank.size_x + optics.glass_thickness_m;
+  m.outer_y = 0.5 * tank.size_y + optics.glass_thickness_m;
+  const double reach = 2.0 * tank.wall_height;
+  m.texel = options.texel_m;
+  m.nx = static_cast<int>(std::ceil(2.0 * (m.outer_x + reach) / m.texel));
+  m.ny = static_cast<int>(std::ceil(2.0 * (m.outer_y + reach) / m.texel));
+  m.origin = {-0.5 * m.nx * m.texel, -0.5 * m.ny * m.texel};
+  return m;
+}
+
+void ComputeBoardSkyView(const TankGeometry& tank, const WaterOptics& optics,
+                         const BoardLightOptions& options, BoardLightMap* map) {
+  const Tank t = MakeTank(tank, optics);
+  // An even side, so the set is its own mirror image in x and in y.
+  const int side =
+      std::max(2, 2 * (static_cast<int>(std::sqrt(options.sky_rays)) / 2));
+  const int rays = side * side;
+  // Cosine-weighted directions, stratified over the unit square.
+  std::vector<glm::dvec3> dirs;
+  dirs.reserve(rays);
+  for (int v = 0; v < side; ++v) {
+    for (int u = 0; u < side; ++u) {
+      const double r2 = (v + 0.5) / side, phi = 2.0 * M_PI * (u + 0.5) / side;
+      const double r = std::sqrt(r2);
+      dirs.emplace_back(r * std::cos(phi), r * std::sin(phi),
+                        std::sqrt(1.0 - r2));
+    }
+  }
+  BoardSkyView& view = map->view;
+  const int step = std::max(1, options.sky_texels);
+  view.texel = map->texel * step;
+  // An even count each way, centred, covering the map and a texel beyond.
+  view.nx = 2 * (static_cast<int>(std::ceil(-map->origin.x / view.texel)) + 1);
+  view.ny = 2 * (static_cast<int>(std::ceil(-map->origin.y / view.texel)) + 1);
+  view.origin = {-0.5 * view.nx * view.texel, -0.5 * view.ny * view.texel};
+  const size_t n = static_cast<size_t>(view.nx) * view.ny;
+  view.sky.assign(n, glm::vec3(0.0f));
+  view.board.assign(n, 0.0f);
+  view.floor.assign(n, 0.0f);
+  view.under_glass.assign(n, 0.0f);
+  // Radiance over the far end's, across the interfaces on the way: a
+  // diffuse point in glass is seen from the air at 1 / n^2 of its radiance
+  // there (radiance / n^2 is invariant). The floor's share is kept in
+  // units of its radiance as the air sees it (BoardLightMap::Texel).
+  const double glass_scale = 1.0 / (t.n_glass * t.n_glass);
+  // The tank and the direction set are symmetric under x -> -x and
+  // y -> -y: one quadrant is traced, the others are its mirror images.
+  for (int j = view.ny / 2; j < view.ny; ++j) {
+    for (int i = view.nx / 2; i < view.nx; ++i) {
+      glm::dvec3 p(view.origin.x + (i + 0.5) * view.texel,
+                   view.origin.y + (j + 0.5) * view.texel, 0.0);
+      if (map->InFootprint(p.x, p.y)) {
+        // Out to the nearest side, 0.1 mm beyond it.
+        const double to_x = map->outer_x - std::abs(p.x);
+        const double to_y = map->outer_y - std::abs(p.y);
+        if (to_x < to_y) {
+          p.x = std::copysign(map->outer_x + 1e-4, p.x);
+        } else {
+          p.y = std::copysign(map->outer_y + 1e-4, p.y);
+        }
+      }
+      glm::dvec3 sky(0.0);
+      double board = 0, floor = 0, under = 0;
+      auto end = [&](End kind, const glm::dvec3&, const glm::dvec3& w) {
+        switch (kind) {
+          case End::kSky:
+            sky += w;
+            break;
+          case End::kBoard:
+            board += w.y;
+            break;
+          case End::kFloor:
+            floor += w.y;
+            break;
+          case End::kUnderGlass:
+            under += w.y * glass_scale;
+            break;
+        }
+      };
+      for (const glm::dvec3& d : dirs) {
+        Trace(t, p, d, Medium::kAirOutside, glm::dvec3(1.0), 0, end);
+      }
+      for (const int jj : {j, view.ny - 1 - j}) {
+        for (const int ii : {i, view.nx - 1 - i}) {
+          const size_t k = static_cast<size_t>(jj) * view.nx + ii;
+          view.sky[k] = glm::vec3(sky / double(rays));
+          view.board[k] = static_cast<float>(board / rays);
+          view.floor[k] = static_cast<float>(floor / rays);
+          view.under_glass[k] = static_cast<float>(under / rays);
+        }
+      }
+    }
+  }
+}
+
+void ComputeBoardDirectLight(const TankGeometry& tank,
+                             const WaterOptics& optics, const glm::dvec3& light,
+                             const BoardLightOptions& options,
+                             BoardLightMap* map) {
+  const Tank t = MakeTank(tank, optics);
+  const glm::dvec3 l = glm::normalize(light);
+  const size_t n = static_cast<size_t>(map->nx) * map->ny;
+  // The light deposited, and the open board's share of each texel: the
+  // splat weight of the lattice points outside the footprint (k^2 away
+  // from it; less on the texels its edge cuts, whose light is taken over
+  // the part of the board they hold).
+  std::vector<glm::dvec3> sum(n, glm::dvec3(0.0));
+  std::vector<double> open(n, 0.0);
+  const double tau = map->texel;
+  auto splat = [&](const glm::dvec3& p, const glm::dvec3& w, bool board) {
+    const double u = (p.x - map->origin.x) / tau - 0.5;
+    const double v = (p.y - map->origin.y) / tau - 0.5;
+    const int i0 = static_cast<int>(std::floor(u));
+    const int j0 = static_cast<int>(std::floor(v));
+    const double fu = u - i0, fv = v - j0;
+    for (int dj = 0; dj < 2; ++dj) {
+      for (int di = 0; di < 2; ++di) {
+        const int i = i0 + di, j = j0 + dj;
+        if (i < 0 || j < 0 || i >= map->nx || j >= map->ny) continue;
+        const double wt = (di ? fu : 1 - fu) * (dj ? fv : 1 - fv);
+        const size_t idx = static_cast<size_t>(j) * map->nx + i;
+        if (board) {
+          open[idx] += wt;
+        } else {
+          sum[idx] += wt * w;
+        }
+      }
+    }
+  };
+  auto end = [&](End kind, const glm::dvec3& p, const glm::dvec3& w) {
+    if (kind == End::kBoard && !map->InFootprint(p.x, p.y)) splat(p, w, false);
+  };
+  // A lattice of k x k points per texel, offset so that its bilinear splat
+  // on the open board is uniform (one texel beyond the map on each side, so
+  // its edge texels too).
+  const int k = std::max(1, options.light_paths_per_axis);
+  const double step = tau / k;
+  const double rise = (t.H + 0.001) / std::max(l.z, 1e-3);
+  for (int j = -k; j < (map->ny + 1) * k; ++j) {
+    for (int i = -k; i < (map->nx + 1) * k; ++i) {
+      const glm::dvec3 q(map->origin.x + (i + 0.5) * step,
+                         map->origin.y + (j + 0.5) * step, 0.0);
+      if (!map->InFootprint(q.x, q.y)) splat(q, glm::dvec3(1.0), true);
+      Trace(t, q + rise * l, -l, Medium::kAirOutside, glm::dvec3(1.0), 0, end);
+    }
+  }
+  map->direct.assign(n, glm::vec3(0.0f));
+  for (int j = 0; j < map->ny; ++j) {
+    for (int i = 0; i < map->nx; ++i) {
+      const glm::dvec3 p = TexelCentre(*map, i, j);
+      const size_t idx = static_cast<size_t>(j) * map->nx + i;
+      if (!map->InFootprint(p.x, p.y) && open[idx] > 0.0) {
+        map->direct[idx] = glm::vec3(sum[idx] / open[idx]);
+      }
+    }
+  }
+}
+
+}  // namespace ripple::render::internal
+
+namespace ripple::render {
+
+double TankShadowReach(const TankGeometry& tank, const WaterOptics& optics) {
+  return optics.glass_thickness_m + 2.0 * tank.wall_height;
+}
+
+}  // namespace ripple::render

@@ -20,7 +20,7 @@ struct PipelineArgs {
   std::string gl;  // empty: the command's default
   PipelineOptions options;
   WaterArgs water;
-  bool no_caustics = false, no_shadows = false, no_tank_shadow = false,
+  bool no_caustics = false, no_shadows = false, tank_shadow = false,
        no_reflection = false, no_refraction = false;
   // Optics (render/optics.h); NaN: the look's default.
   std::string water_look = "clear";

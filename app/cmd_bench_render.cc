@@ -350,7 +350,10 @@ int RunBenchRender(const RenderBenchArgs& args) {
   std::ofstream csv(csv_path);
   if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
   csv << "scene,water_pixels,flip,flip_open_water";
-  for (const EffectSwitch& e : kEffects) csv << ",flip_no_" << e.name;
+  for (const EffectSwitch& e : kEffects) {
+    csv << (render::Effects().*(e.flag) ? ",flip_no_" : ",flip_with_")
+        << e.name;
+  }
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
          "flip_hand_without_mask,flip_shadow,flip_reflection,flip_board,"
          "flip_board_without_tank_shadow,main_ms,"
@@ -367,7 +370,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
       "noise", "pen", "hand", "pen", "hand", "shadow", "refl", "board", "board",
       "main", "caust", "shadow", "envmap", "ref_s");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
-  for (int i = 0; i < kNumEffects; ++i) std::printf(" %6s", "off");
+  for (int i = 0; i < kNumEffects; ++i)
+    std::printf(" %6s", render::Effects().*(kEffects[i].flag) ? "off" : "on");
   std::printf(
       " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s |\n",
       "floor", "FLIP", "FLIP", "plain", "plain", "FLIP", "FLIP", "FLIP", "off",
@@ -491,8 +495,9 @@ int RunBenchRender(const RenderBenchArgs& args) {
     }
     cv::Mat refl_window;
     for (int e = 0; e < kNumEffects; ++e) {
+      // Each effect toggled: off, or on for one that is off by default.
       render::SceneInputs off = in;
-      off.effects.*(kEffects[e].flag) = false;
+      off.effects.*(kEffects[e].flag) = !(in.effects.*(kEffects[e].flag));
       const cv::Mat img = RenderRealTime(renderer.get(), off);
       cv::Mat m;
       if (img.empty() || !bench::ComputeFlip(fo, reference, img, &m, &error))
@@ -506,8 +511,9 @@ int RunBenchRender(const RenderBenchArgs& args) {
       if (kEffects[e].flag == &render::Effects::tank_shadow) {
         const cv::Mat window = ChangedPixels(realtime, img, 1, 9) & ~mask;
         if (cv::countNonZero(window) > 0) {
-          res.flip_board = bench::MeanFlip(flip_map, window);
-          res.flip_board_off = bench::MeanFlip(m, window);
+          const bool on = in.effects.tank_shadow;
+          res.flip_board = bench::MeanFlip(on ? flip_map : m, window);
+          res.flip_board_off = bench::MeanFlip(on ? m : flip_map, window);
         }
       }
       if (kEffects[e].flag == &render::Effects::reflection) {

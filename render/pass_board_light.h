@@ -33,8 +33,8 @@ class BoardLightPass {
   // there.
   void Draw(const FrameState& f, const RealObjectsState& real);
   const BoardLightMap& map() const { return map_; }
-  // The board it changes by more than a grey level (tank frame x0, y0, x1,
-  // y1, metres).
+  // The board it changes by more than two grey levels (tank frame x0, y0,
+  // x1, y1, metres).
   const glm::dvec4& rect() const { return rect_; }
 
  private:
@@ -58,6 +58,16 @@ class BoardLightPass {
   glm::vec3 ground_{-1.0f};
   bool have_map_ = false;
   glm::dvec4 rect_{0.0};
+  // Per texel, made when the light or the optics change: the light
+  // without the floor (rgb) and the other diffuse surfaces (a), and the
+  // floor's share per unit of its radiance over G.
+  struct Parts {
+    glm::vec4 light{0.0f};
+    float floor = 0;
+  };
+  std::vector<Parts> parts_;
+  std::vector<float> encode_;  // the sRGB curve, 4096 steps
+  glm::ivec2 texture_size_{0};
 };
 
 }  // namespace ripple::render::internal

@@ -141,47 +141,53 @@ TEST_F(PipelineTest, HandsOverTheTankStayInFrontOfTheWater) {
                      " --frames 40 --segment 40 --size 640x480 --preset hands "
                      "--seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  const std::string common = "replay --headless --input " + dir +
-                             "/frames --camera " + dir + "/camera.yml --rig " +
-                             dir + "/rig.yml --fps 30 --out ";
-  r = RunRipple(common + dir + "/with/");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  r = RunRipple(common + dir + "/without/ --no-occluders");
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  long long over_tank = 0, covered = 0;
-  for (int i = 5; i < 40; ++i) {
-    char name[32];
-    std::snprintf(name, sizeof(name), "/%06d.png", i);
-    const cv::Mat input = cv::imread(dir + "/frames" + name);
-    const cv::Mat labels =
-        cv::imread(dir + "/occluders" + name, cv::IMREAD_GRAYSCALE);
-    const cv::Mat with = cv::imread(dir + "/with" + name);
-    const cv::Mat without = cv::imread(dir + "/without" + name);
-    ASSERT_FALSE(input.empty() || labels.empty() || with.empty() ||
-                 without.empty())
-        << name;
-    for (int y = 0; y < input.rows; ++y) {
-      for (int x = 0; x < input.cols; ++x) {
-        if (labels.at<std::uint8_t>(y, x) != 255) continue;
-        const cv::Vec3b a = input.at<cv::Vec3b>(y, x);
-        auto differs = [&](const cv::Mat& m) {
-          const cv::Vec3b b = m.at<cv::Vec3b>(y, x);
-          return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]),
-                           std::abs(a[2] - b[2])}) > 3;
-        };
-        if (!differs(without)) continue;
-        ++over_tank;
-        covered += differs(with);
+  // As the pipeline runs by default, and with the tank's shadow on the
+  // board around the tank (where the clean plate then looks for hands too).
+  for (const std::string extra : {"", " --tank-shadow"}) {
+    const std::string common =
+        "replay --headless --input " + dir + "/frames --camera " + dir +
+        "/camera.yml --rig " + dir + "/rig.yml --fps 30" + extra + " --out ";
+    r = RunRipple(common + dir + "/with/");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    r = RunRipple(common + dir + "/without/ --no-occluders");
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    long long over_tank = 0, covered = 0;
+    for (int i = 5; i < 40; ++i) {
+      char name[32];
+      std::snprintf(name, sizeof(name), "/%06d.png", i);
+      const cv::Mat input = cv::imread(dir + "/frames" + name);
+      const cv::Mat labels =
+          cv::imread(dir + "/occluders" + name, cv::IMREAD_GRAYSCALE);
+      const cv::Mat with = cv::imread(dir + "/with" + name);
+      const cv::Mat without = cv::imread(dir + "/without" + name);
+      ASSERT_FALSE(input.empty() || labels.empty() || with.empty() ||
+                   without.empty())
+          << name;
+      for (int y = 0; y < input.rows; ++y) {
+        for (int x = 0; x < input.cols; ++x) {
+          if (labels.at<std::uint8_t>(y, x) != 255) continue;
+          const cv::Vec3b a = input.at<cv::Vec3b>(y, x);
+          auto differs = [&](const cv::Mat& m) {
+            const cv::Vec3b b = m.at<cv::Vec3b>(y, x);
+            return std::max({std::abs(a[0] - b[0]), std::abs(a[1] - b[1]),
+                             std::abs(a[2] - b[2])}) > 3;
+          };
+          if (!differs(without)) continue;
+          ++over_tank;
+          covered += differs(with);
+        }
       }
     }
+    ASSERT_GT(over_tank, 5000) << "the sequence must put hands over the tank";
+    const double share = double(covered) / over_tank;
+    std::printf(
+        "hand pixels over the tank covered by water%s: %.2f%% of %lld\n",
+        extra.c_str(), 100 * share, over_tank);
+    // Measured 0.62%, 0.47% with the tank's shadow (the mask then grown by
+    // a pixel; the target is 1%): the hand's edge pixels, and slivers along
+    // the shaft's outline.
+    EXPECT_LT(share, 0.01) << extra;
   }
-  ASSERT_GT(over_tank, 5000) << "the sequence must put hands over the tank";
-  const double share = double(covered) / over_tank;
-  std::printf("hand pixels over the tank covered by water: %.2f%% of %lld\n",
-              100 * share, over_tank);
-  // Measured 0.62% (the target is 1%): the hand's edge pixels, and slivers
-  // along the shaft's outline.
-  EXPECT_LT(share, 0.01);
 }
 
 TEST_F(PipelineTest, TruncatedVideoExits1AndKeepsAPlayableOutput) {

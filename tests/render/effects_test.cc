@@ -846,6 +846,7 @@ TEST(EffectsTest, TheTanksShadowOnTheBoardIsTheBoardLightModels) {
   const std::uint8_t grey = 200;
   TestScene s = MakeScene(kW, kH, View::kFront, false);
   std::fill(s.video.begin(), s.video.end(), grey);
+  s.inputs.effects.tank_shadow = true;
   const cv::Mat on = RenderScene(r.get(), s.inputs);
   s.inputs.effects.tank_shadow = false;
   const cv::Mat off = RenderScene(r.get(), s.inputs);

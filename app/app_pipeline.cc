@@ -121,8 +121,8 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
           render::TankShadowReach(s.tank, options.renderer.optics);
       plate_options.margin_m =
           std::max(plate_options.margin_m, plate_options.surround_m);
+      plate_options.grow_px = std::max(plate_options.grow_px, 1);
     }
-    plate_options.grow_px = std::max(plate_options.grow_px, 1);
     p->plate_ = std::make_unique<tracking::CleanPlate>(
         camera, rig.tank.size_x_m, rig.tank.size_y_m,
         std::max(rig.tank.wall_height_m, rig.tank.water_level_m + 0.01),

@@ -142,7 +142,10 @@ void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
                  render::SceneInputs* in) {
   const render::TankGeometry& t = rs.scene.tank;
   const double top = std::max(t.wall_height, t.water_level + 0.01f);
-  // As the pipeline makes it: hands over the board around the tank too.
+  // Its search widened as the pipeline widens it with --tank-shadow: hands
+  // over the board around the tank too (the default renders do not draw
+  // there; the water's FLIP on `hand` is the same to 4 decimals either
+  // way).
   tracking::CleanPlateOptions po;
   po.surround_m = render::TankShadowReach(t, render::WaterOptics());
   po.margin_m = std::max(po.margin_m, po.surround_m);

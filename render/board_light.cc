@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/renderer.h"
+
 namespace ripple::render::internal {
 namespace {
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "render/gl_state.h"
+#include "render/meshes.h"
 #include "render/shaders.h"
 
 namespace ripple::render::internal {
@@ -14,11 +15,6 @@ namespace {
 // (the sky the walls hide reaches two wall heights out) cost twice as
 // much: 5.2 M instructions a frame against 2.7 M.
 constexpr float kLevels = 2.0f;
-
-bool SameTank(const TankGeometry& a, const TankGeometry& b) {
-  return a.size_x == b.size_x && a.size_y == b.size_y &&
-         a.wall_height == b.wall_height && a.water_level == b.water_level;
-}
 
 }  // namespace
 

@@ -6,8 +6,10 @@
 // the water refracts, so the board seen through the walls carries it too.
 //
 // Redraw key: the map's sky view when the tank or the glass and water
-// optics change, its direct light and texture when the light or the
-// ambient share and tints change as well; drawn every frame it is on.
+// optics change, its direct light when the light changes as well, its
+// texture when either did, or the ambient share and tints, or the board's
+// or the tank floor's radiance moved by more than 3%; drawn every frame it
+// is on.
 #ifndef RIPPLE_RENDER_PASS_BOARD_LIGHT_H_
 #define RIPPLE_RENDER_PASS_BOARD_LIGHT_H_
 
@@ -32,7 +34,6 @@ class BoardLightPass {
   // for a board of radiance f.ground.board); depth-tested against what is
   // there.
   void Draw(const FrameState& f, const RealObjectsState& real);
-  const BoardLightMap& map() const { return map_; }
   // The board it changes by more than two grey levels (tank frame x0, y0,
   // x1, y1, metres).
   const glm::dvec4& rect() const { return rect_; }

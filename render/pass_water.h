@@ -57,10 +57,10 @@ class WaterPass {
             GLuint target);
   // The grid the water is shaded on (inactive: the output's pixels).
   const CoarseGrid& grid() const { return grid_; }
-  // The floor-return map's tint and means (frame_state.h).
   // The floor's return map and light for this frame (FloorReturnLight):
   // before Draw, and before any pass that reads floor_return_light().
   void UpdateFloorLight(const FrameState& f);
+  // The floor-return map's tint and means (frame_state.h).
   const FloorReturnLight& floor_return_light() const { return return_light_; }
 
   // Texels of the floor-return map (optics.h) over the tank floor, and the

@@ -46,28 +46,41 @@ Event NormalAgainst(Event e, int axis, const glm::dvec3& d) {
   return e;
 }
 
-Event AirOutside(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
-  // Entering the outer box [-A, A] x [-B, B] x [0, H].
-  double t0 = -kInf, t1 = kInf;
+// Where o + s d lies inside the box lo..hi over its first `axes` axes:
+// s in (in, out), entering across axis `axis` (-1: no axis bounds it);
+// `in` is kInf when the ray runs parallel to an axis outside the box.
+struct Span {
+  double in = -kInf, out = kInf;
   int axis = -1;
-  const double lo[3] = {-t.A, -t.B, 0.0}, hi[3] = {t.A, t.B, t.H};
-  for (int k = 0; k < 3; ++k) {
+};
+Span BoxSpan(const glm::dvec3& o, const glm::dvec3& d, const double* lo,
+             const double* hi, int axes) {
+  Span s;
+  for (int k = 0; k < axes; ++k) {
     if (d[k] == 0.0) {
-      if (o[k] < lo[k] || o[k] > hi[k]) t0 = kInf;
+      if (o[k] <= lo[k] || o[k] >= hi[k]) s.in = kInf;
       continue;
     }
     double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
     if (ta > tb) std::swap(ta, tb);
-    if (ta > t0) {
-      t0 = ta;
-      axis = k;
+    if (ta > s.in) {
+      s.in = ta;
+      s.axis = k;
     }
-    t1 = std::min(t1, tb);
+    s.out = std::min(s.out, tb);
   }
+  return s;
+}
+
+Event AirOutside(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
+  // Entering the outer box [-A, A] x [-B, B] x [0, H].
+  const double lo[3] = {-t.A, -t.B, 0.0}, hi[3] = {t.A, t.B, t.H};
+  const Span box = BoxSpan(o, d, lo, hi, 3);
+  const int axis = box.axis;
   Event e;
-  if (axis >= 0 && t0 < t1 && t0 > 0.0 && t0 < kInf) {
-    e.t = t0;
-    const glm::dvec3 p = o + t0 * d;
+  if (axis >= 0 && box.in < box.out && box.in > 0.0 && box.in < kInf) {
+    e.t = box.in;
+    const glm::dvec3 p = o + box.in * d;
     if (axis == 2 && std::abs(p.x) < t.a && std::abs(p.y) < t.b) {
       e.interface = false;  // down through the open top
       e.next = Medium::kAirInside;
@@ -123,29 +136,15 @@ Event InGlass(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
   const double ez = d.z > 0 ? (t.H - o.z) / d.z : d.z < 0 ? -o.z / d.z : kInf;
   const double t_exit = std::max(std::min({ex, ey, ez}), 0.0);
   // Entering the inner column |x| < a, |y| < b.
-  double c0 = -kInf, c1 = kInf;
-  int c_axis = -1;
-  bool column = true;
-  const double h[2] = {t.a, t.b};
-  for (int k = 0; k < 2; ++k) {
-    if (d[k] == 0.0) {
-      if (std::abs(o[k]) >= h[k]) column = false;
-      continue;
-    }
-    double ta = (-h[k] - o[k]) / d[k], tb = (h[k] - o[k]) / d[k];
-    if (ta > tb) std::swap(ta, tb);
-    if (ta > c0) {
-      c0 = ta;
-      c_axis = k;
-    }
-    c1 = std::min(c1, tb);
-  }
+  const double lo[2] = {-t.a, -t.b}, hi[2] = {t.a, t.b};
+  const Span column = BoxSpan(o, d, lo, hi, 2);
   Event e;
-  if (column && c_axis >= 0 && c0 < c1 && c0 > 0.0 && c0 < t_exit) {
-    e.t = c0;
-    const double z = o.z + c0 * d.z;
+  if (column.axis >= 0 && column.in < column.out && column.in > 0.0 &&
+      column.in < t_exit) {
+    e.t = column.in;
+    const double z = o.z + column.in * d.z;
     e.next = z < t.W ? Medium::kWater : Medium::kAirInside;
-    return NormalAgainst(e, c_axis, d);
+    return NormalAgainst(e, column.axis, d);
   }
   e.t = t_exit;
   if (ez <= ex && ez <= ey && d.z < 0) {
@@ -237,9 +236,8 @@ bool BoardLightMap::InFootprint(double x, double y) const {
   return std::abs(x) < outer_x && std::abs(y) < outer_y;
 }
 
-glm::vec4 BoardLightMap::Texel(int i, int j, const WaterOptics& optics,
-                               float floor_radiance,
-                               float under_glass_light) const {
+BoardTexel BoardLightMap::Texel(int i, int j, const WaterOptics& optics,
+                                float under_glass_light) const {
   const glm::dvec3 p = TexelCentre(*this, i, j);
   if (InFootprint(p.x, p.y)) {
     // Out to the nearest side of the footprint, and one texel beyond it.
@@ -264,20 +262,21 @@ glm::vec4 BoardLightMap::Texel(int i, int j, const WaterOptics& optics,
   const int j0 = std::min(static_cast<int>(v), view.ny - 2);
   const float fu = static_cast<float>(u - i0), fv = static_cast<float>(v - j0);
   glm::vec3 sky(0.0f);
-  float diffuse = 0;
+  BoardTexel t;
   for (int dj = 0; dj < 2; ++dj) {
     for (int di = 0; di < 2; ++di) {
       const float w = (di ? fu : 1 - fu) * (dj ? fv : 1 - fv);
       const size_t q = static_cast<size_t>(j0 + dj) * view.nx + i0 + di;
       sky += w * view.sky[q];
-      diffuse += w * (view.board[q] + view.floor[q] * floor_radiance +
-                      view.under_glass[q] * under_glass_light);
+      t.diffuse +=
+          w * (view.board[q] + view.under_glass[q] * under_glass_light);
+      t.floor += w * view.floor[q];
     }
   }
   const float a = optics.ambient_share;
-  const glm::vec3 rgb =
+  t.light =
       a * optics.sky_tint * sky + (1.0f - a) * optics.sun_tint * direct[k];
-  return {rgb, diffuse};
+  return t;
 }
 
 BoardLightMap BoardLightLayout(const TankGeometry& tank,

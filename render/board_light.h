@@ -66,6 +66,22 @@ struct BoardSkyView {
   std::vector<float> board, floor, under_glass;
 };
 
+// One texel's light over the dry board's, per band, for a board of radiance
+// G in display units: light + G (diffuse + floor x F), with `light` the
+// sky's share a * sky_tint * sky plus the light's (1 - a) * sun_tint *
+// direct, `diffuse` the board and the board under the glass that the tank
+// shows in place of the sky, in units of G, and `floor` the tank's floor,
+// in units of its radiance as the air above the water sees it (its light
+// with the surface's return, over n^2), F that radiance over G. 1 where the
+// tank changes nothing.
+struct BoardTexel {
+  glm::vec3 light{1.0f};
+  float diffuse = 0, floor = 0;
+  float Factor(int band, float ground, float floor_over_ground) const {
+    return light[band] + ground * (diffuse + floor * floor_over_ground);
+  }
+};
+
 struct BoardLightMap {
   glm::dvec2 origin{0.0};  // tank-frame x, y of the map's (-x, -y) corner
   double texel = 0;        // metres
@@ -77,19 +93,13 @@ struct BoardLightMap {
   // the open board's; 0 inside the outer footprint.
   std::vector<glm::vec3> direct;
 
-  // The board's light over the dry board's at texel (i, j), per band, for
-  // a board of radiance G in display units: rgb + G * a of what this
-  // returns, with rgb the sky's share a * sky_tint * sky plus the light's
-  // (1 - a) * sun_tint * direct, and a the diffuse surfaces the tank shows
-  // in place of the sky, in units of G. `floor_radiance` is the tank
-  // floor's radiance as the air above the water sees it (its light with
-  // the surface's return, over n^2) over G; `under_glass_light` the
-  // board's light under the walls, relative to the dry board. 1 (and
-  // a = 0) where the tank changes nothing. A texel inside the footprint takes
-  // its nearest outside texel's value (bilinear lookups at the footprint's edge
+  // The board's light over the dry board's at texel (i, j), in its parts
+  // (BoardTexel); `under_glass_light` is the board's light under the walls,
+  // relative to the dry board. A texel inside the footprint takes its
+  // nearest outside texel's value (bilinear lookups at the footprint's edge
   // then see only the outside).
-  glm::vec4 Texel(int i, int j, const WaterOptics& optics, float floor_radiance,
-                  float under_glass_light) const;
+  BoardTexel Texel(int i, int j, const WaterOptics& optics,
+                   float under_glass_light) const;
   bool InFootprint(double x, double y) const;
 };
 

@@ -91,14 +91,11 @@ void BoardLightPass::Update(const FrameState& f, const glm::vec3& floor_seen) {
     light_ = f.light;
   }
   if (!parts_valid) {
-    // Each texel's light is linear in the floor's radiance: its part
-    // without the floor, and the floor's share.
     parts_.resize(static_cast<size_t>(map_.nx) * map_.ny);
     for (int j = 0; j < map_.ny; ++j) {
       for (int i = 0; i < map_.nx; ++i) {
-        const glm::vec4 t0 = map_.Texel(i, j, o, 0.0f, under_glass);
-        const glm::vec4 t1 = map_.Texel(i, j, o, 1.0f, under_glass);
-        parts_[static_cast<size_t>(j) * map_.nx + i] = {t0, t1.a - t0.a};
+        parts_[static_cast<size_t>(j) * map_.nx + i] =
+            map_.Texel(i, j, o, under_glass);
       }
     }
     ambient_ = o.ambient_share;
@@ -146,14 +143,13 @@ void BoardLightPass::Update(const FrameState& f, const glm::vec3& floor_seen) {
   for (int j = 0; j < map_.ny; ++j) {
     for (int i = 0; i < map_.nx; ++i) {
       const size_t k = static_cast<size_t>(j) * map_.nx + i;
-      const Parts& t = parts_[k];
-      const float diffuse = t.light.a + t.floor * floor_radiance;
+      const BoardTexel& t = parts_[k];
       std::uint8_t* p = &texels[k * 4];
       bool changes = false;
       for (int c = 0; c < 3; ++c) {
         const float g = ground[c];
-        const float shown =
-            g + shoulder(g * (t.light[c] + g * diffuse)) - ground_shoulder[c];
+        const float shown = g + shoulder(g * t.Factor(c, g, floor_radiance)) -
+                            ground_shoulder[c];
         const float e = encode(shown);
         changes = changes || std::abs(e - ground_encoded[c]) * 255.0f > kLevels;
         p[c] = static_cast<std::uint8_t>(std::lround(

@@ -59,14 +59,9 @@ class BoardLightPass {
   glm::vec3 ground_{-1.0f};
   bool have_map_ = false;
   glm::dvec4 rect_{0.0};
-  // Per texel, made when the light or the optics change: the light
-  // without the floor (rgb) and the other diffuse surfaces (a), and the
-  // floor's share per unit of its radiance over G.
-  struct Parts {
-    glm::vec4 light{0.0f};
-    float floor = 0;
-  };
-  std::vector<Parts> parts_;
+  // Per texel, made when the light or the optics change (the board's and
+  // the floor's radiance enter when the texture is made).
+  std::vector<BoardTexel> parts_;
   std::vector<float> encode_;  // the sRGB curve, 4096 steps
   glm::ivec2 texture_size_{0};
 };

@@ -53,10 +53,10 @@ TEST(BoardLightTest, AnIndexMatchedTankChangesNothing) {
   const Maps m = Compute(optics, {0.35, 0.25, 1.0});
   for (int j = 0; j < m.map.ny; ++j) {
     for (int i = 0; i < m.map.nx; ++i) {
-      const glm::vec4 v = m.map.Texel(i, j, optics, 0.9f, 0.9f);
-      ASSERT_NEAR(v.r, 1.0f, 1e-5) << i << " " << j;
-      ASSERT_NEAR(v.b, 1.0f, 1e-5) << i << " " << j;
-      ASSERT_NEAR(v.a, 0.0f, 1e-6) << i << " " << j;
+      const BoardTexel v = m.map.Texel(i, j, optics, 0.9f);
+      ASSERT_NEAR(v.light.r, 1.0f, 1e-5) << i << " " << j;
+      ASSERT_NEAR(v.light.b, 1.0f, 1e-5) << i << " " << j;
+      ASSERT_NEAR(v.diffuse + 0.9f * v.floor, 0.0f, 1e-6) << i << " " << j;
     }
   }
 }

@@ -881,8 +881,8 @@ TEST(EffectsTest, TheTanksShadowOnTheBoardIsTheBoardLightModels) {
   // What the pass multiplies the encoded board by at a texel: the board's
   // light through the shoulder, encoded, over the board's encoding.
   auto factor = [&](int i, int j) {
-    const glm::vec4 v = map.Texel(i, j, o.optics, floor_radiance, under_glass);
-    const double f = v.g + g * v.a;
+    const double f = map.Texel(i, j, o.optics, under_glass)
+                         .Factor(1, static_cast<float>(g), floor_radiance);
     const double shown =
         g + HighlightShoulder(g * f, knee) - HighlightShoulder(g, knee);
     return std::clamp(

@@ -21,6 +21,7 @@
 #include "app/app_render_scenes.h"
 #include "app/app_wxh.h"
 #include "bench/flip.h"
+#include "bench/flip_budget.h"
 #include "bench/stats.h"
 #include "render/context.h"
 #include "render/renderer.h"
@@ -46,6 +47,9 @@ struct RenderBenchArgs {
   int light_paths_per_texel = 64;
   int sky_rays = 4;
   int timing_frames = 15;
+  // The sky's share of the board's light, for both renderers (the light's
+  // disc has the rest): 1 lights by the sky alone, 0 by the disc alone.
+  double ambient = 0.3;
   // --water-columns auto | full | N (RendererOptions::water_shading_columns)
   std::string water_columns = "auto";
 };
@@ -129,6 +133,11 @@ struct SceneResult {
   // px; with it and without it. -1: none.
   double flip_board = -1, flip_board_off = -1;
   double envmap_ms = 0;  // the cube map's rebuild (0 for the fold)
+  // What `flip` is made of (bench/flip_budget.h): the uniform gain on the
+  // water's light that brings the real-time image closest to the
+  // reference, and FLIP at it; and FLIP of the reference read at 1/n of its
+  // resolution (what refracting the camera's own frame cannot avoid).
+  double best_gain = 1, flip_at_best_gain = 0, flip_resolution_loss = 0;
 };
 
 // The real objects as the pipeline sees them: a clean plate learned from
@@ -334,6 +343,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   render::RendererOptions ro;
   ro.timing = render::RendererOptions::Timing::kCpuFinish;
   ro.optics = render::WaterOptics::ForLook(look);
+  ro.optics.ambient_share = static_cast<float>(args.ambient);
   ro.shadow_filter = shadow_filter;
   ro.reflection_map = reflection_map;
   if (!ParseWaterColumns(args.water_columns, &ro.water_shading_columns))
@@ -360,7 +370,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
          "flip_hand_without_mask,flip_shadow,flip_reflection,flip_board,"
          "flip_board_without_tank_shadow,main_ms,"
-         "caustics_ms,shadow_ms,envmap_ms,reference_s\n";
+         "caustics_ms,shadow_ms,envmap_ms,reference_s,best_gain,"
+         "flip_at_best_gain,flip_resolution_loss\n";
   std::printf(
       "mean LDR-FLIP inside the water, real-time (reflection %s) against "
       "the reference (%dx%d, %d spp, %d light paths per texel)\n",
@@ -369,16 +380,18 @@ int RunBenchRender(const RenderBenchArgs& args) {
   std::printf("%-8s %7s %6s %6s |", "scene", "pixels", "FLIP", "open");
   for (const EffectSwitch& e : kEffects) std::printf(" %6.6s", e.name);
   std::printf(
-      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s | %6s\n",
+      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s | %6s | "
+      "%6s %6s %6s\n",
       "noise", "pen", "hand", "pen", "hand", "shadow", "refl", "board", "board",
-      "main", "caust", "shadow", "envmap", "ref_s");
+      "main", "caust", "shadow", "envmap", "ref_s", "gain", "FLIP", "res.");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i)
     std::printf(" %6s", render::Effects().*(kEffects[i].flag) ? "off" : "on");
   std::printf(
-      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s |\n",
+      " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s | %6s | "
+      "%6s %6s %6s\n",
       "floor", "FLIP", "FLIP", "plain", "plain", "FLIP", "FLIP", "FLIP", "off",
-      "ms", "ms", "ms", "ms");
+      "ms", "ms", "ms", "ms", "", "best", "gain", "loss");
 
   for (RenderBenchScene& s : scenes) {
     reference::ReferenceScene& rs = s.scene;
@@ -452,6 +465,14 @@ int RunBenchRender(const RenderBenchArgs& args) {
     res.flip_open = cv::countNonZero(open_mask) > 0
                         ? bench::MeanFlip(flip_map, open_mask)
                         : 0.0;
+    bench::UniformGainFit gain_fit;
+    if (!bench::FitUniformGain(fo, reference, realtime, mask, 0.1, 0.002,
+                               &gain_fit, &error) ||
+        !bench::ResolutionLossFlip(fo, reference, mask, optics.ior,
+                                   &res.flip_resolution_loss, &error))
+      return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
+    res.best_gain = gain_fit.gain;
+    res.flip_at_best_gain = gain_fit.flip;
     cv::Mat noise_map;
     if (!bench::ComputeFlip(fo, reference, reference_again, &noise_map, &error))
       return Fail(kExitRuntime, error);
@@ -604,19 +625,22 @@ int RunBenchRender(const RenderBenchArgs& args) {
     };
     std::printf(
         " | %6.4f | %s %s %s %s %s %s | %s %s | %6.2f %6.2f %6.2f %6.2f | "
-        "%6.1f\n",
+        "%6.1f | %6.3f %6.4f %6.4f\n",
         res.noise_floor, window(res.flip_pen).c_str(),
         window(res.flip_hand).c_str(), window(res.flip_pen_plain).c_str(),
         window(res.flip_hand_plain).c_str(), window(res.flip_shadow).c_str(),
         window(res.flip_reflection).c_str(), window(res.flip_board).c_str(),
         window(res.flip_board_off).c_str(), res.main_ms, res.caustics_ms,
-        res.shadow_ms, res.envmap_ms, res.reference_s);
+        res.shadow_ms, res.envmap_ms, res.reference_s, res.best_gain,
+        res.flip_at_best_gain, res.flip_resolution_loss);
     csv << ',' << res.noise_floor << ',' << res.flip_pen << ',' << res.flip_hand
         << ',' << res.flip_pen_plain << ',' << res.flip_hand_plain << ','
         << res.flip_shadow << ',' << res.flip_reflection << ','
         << res.flip_board << ',' << res.flip_board_off << ',' << res.main_ms
         << ',' << res.caustics_ms << ',' << res.shadow_ms << ','
-        << res.envmap_ms << ',' << res.reference_s << '\n';
+        << res.envmap_ms << ',' << res.reference_s << ',' << res.best_gain
+        << ',' << res.flip_at_best_gain << ',' << res.flip_resolution_loss
+        << '\n';
     std::fflush(stdout);
 
     cv::Mat heat = bench::FlipHeatmap(flip_map);
@@ -730,6 +754,11 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "this many columns: auto, full or N >= 64")
       ->capture_default_str()
       ->check(WaterColumnsValidator());
+  sub->add_option("--ambient", args->ambient,
+                  "The sky's share of the board's light in both renderers, "
+                  "0..1 (the light's disc has the rest)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   sub->add_option("--spp", args->samples_per_pixel,
                   "Reference samples per pixel")
       ->capture_default_str()

@@ -285,9 +285,102 @@ glm::vec3 DaylightSkyRadiance(const Daylight& d, const EnuDirection& view) {
   return glm::vec3(k * glm::dvec3(l.r, l.g, l.b) / w);
 }
 
+namespace {
+
+// A ray of the water meeting a side wall of glass, followed through the
+// slab: the glass-water and glass-air faces by Fresnel (total beyond their
+// critical angles), the slab's top face (at the wall's height) by Fresnel
+// from inside, and its bottom on the board. The slab guides light that its
+// outer face reflects totally: each return to the inner face lets part of
+// it back into the tank, and what reaches the top face turns downwards
+// there. Light back in above the water `level` going up leaves for the sky;
+// going down it meets the surface from above and is counted as entering the
+// water there (the surface's own reflection of it left out). Shares of the
+// ray's weight (before the wall), by where they go.
+struct WallPassage {
+  double back_same = 0;    // into the water, mirrored, same vertical sense
+  double back_turned = 0;  // into the water going down after the top face
+  double turned_z = 0;     // mean height (m) at which back_turned leaves
+  double top = 0;          // out through the top face, or back in above
+                           // the water going up: the sky
+  double under = 0;        // onto the board under the glass
+  // Out through the outer face: the share and the height of each exit, and
+  // whether it goes down (the board beyond) or up (the sky).
+  struct Exit {
+    double share, z;
+    bool down;
+  };
+  std::vector<Exit> out;
+};
+
+WallPassage ThroughSideWall(double cos_n, double dz, double z, double level,
+                            double height, double thickness, double n,
+                            double ng) {
+  WallPassage w;
+  const double r1 = FresnelReflectance(cos_n, n, ng);
+  w.back_same = r1;
+  const double sin2_g = (n / ng) * (n / ng) * (1.0 - cos_n * cos_n);
+  if (sin2_g >= 1.0) {
+    w.back_same = 1.0;
+    return w;
+  }
+  const double cg = std::sqrt(1.0 - sin2_g);
+  const double r2 = FresnelReflectance(cg, ng, 1.0);
+  const double gz = std::abs(dz) * n / ng;  // |vertical| in the glass
+  const double rise = thickness * gz / std::max(cg, 1e-9);  // per crossing
+  const double r_top = FresnelReflectance(gz, ng, 1.0);
+  double a = 1.0 - r1;
+  double sense = dz >= 0 ? 1.0 : -1.0;
+  double at = z;
+  bool turned = false;
+  double turned_sum = 0;
+  // One crossing of the slab; false when the light has left it on the way.
+  auto cross = [&]() {
+    at += sense * rise;
+    if (sense < 0 && at <= 0.0) {
+      w.under += a;
+      a = 0;
+      return false;
+    }
+    if (sense > 0 && at >= height) {
+      w.top += a * (1.0 - r_top);
+      a *= r_top;
+      sense = -1.0;
+      turned = true;
+      at = 2.0 * height - at;
+    }
+    return a > 1e-7;
+  };
+  for (int k = 0; k < 400 && a > 1e-7; ++k) {
+    if (!cross()) break;
+    w.out.push_back({a * (1.0 - r2), at, sense < 0});
+    a *= r2;
+    if (!cross()) break;
+    // The inner face borders the water below the level and the tank's air
+    // above it (the same as the outer face there: total reflection guides
+    // the light on).
+    const double r_in = at > level ? r2 : r1;
+    const double back = a * (1.0 - r_in);
+    if (turned) {
+      w.back_turned += back;
+      turned_sum += back * std::min(at, level);
+    } else if (at > level) {
+      w.top += back;
+    } else {
+      w.back_same += back;
+    }
+    a *= r_in;
+  }
+  w.turned_z = w.back_turned > 0 ? turned_sum / w.back_turned : z;
+  return w;
+}
+
+}  // namespace
+
 FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
-                                  double size_y, double depth, int nx, int ny,
-                                  int rays, double surround_radiance) {
+                                  double size_y, double depth,
+                                  double wall_height, int nx, int ny, int rays,
+                                  double surround_radiance) {
   FloorReturnMap map;
   map.nx = nx;
   map.ny = ny;
@@ -300,11 +393,17 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
   // for the board points.
   std::vector<std::pair<glm::dvec2, double>> landings[4];
   const double n = o.ior, ng = o.glass_ior;
+  const double thickness = o.glass_thickness_m;
+  const double height = std::max(wall_height, depth);
   const double hx = 0.5 * size_x, hy = 0.5 * size_y;
   const glm::dvec3 sigma(o.absorption_per_m);
   // Stratified cosine-weighted directions (Hammersley in the unit disc,
-  // lifted to the hemisphere), the same for every texel.
-  std::vector<glm::dvec3> dirs(rays);
+  // lifted to the hemisphere), shifted per texel by a fixed pseudo-random
+  // offset (Cranley-Patterson rotation): the walls' thin features (the band
+  // of heights from which the glass sends light under itself) alias on one
+  // fixed set, the same way at every texel; shifted, the error is noise that
+  // neighbouring texels average.
+  std::vector<glm::dvec2> unit(rays);
   for (int k = 0; k < rays; ++k) {
     unsigned b = static_cast<unsigned>(k);
     b = (b << 16) | (b >> 16);
@@ -312,19 +411,43 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
     b = ((b & 0x33333333u) << 2) | ((b & 0xCCCCCCCCu) >> 2);
     b = ((b & 0x0F0F0F0Fu) << 4) | ((b & 0xF0F0F0F0u) >> 4);
     b = ((b & 0x00FF00FFu) << 8) | ((b & 0xFF00FF00u) >> 8);
-    const double u = (k + 0.5) / rays, v = b * (1.0 / 4294967296.0);
-    const double r = std::sqrt(u), phi = 2.0 * 3.14159265358979 * v;
-    dirs[k] = {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u)};
+    unit[k] = {(k + 0.5) / rays, b * (1.0 / 4294967296.0)};
   }
+  std::vector<glm::dvec3> dirs(rays);
+  auto texel_directions = [&](int i, int j) {
+    uint32_t h = static_cast<uint32_t>(i) * 0x9E3779B1u ^
+                 static_cast<uint32_t>(j) * 0x85EBCA77u;
+    auto next = [&h]() {
+      h ^= h >> 16;
+      h *= 0x7FEB352Du;
+      h ^= h >> 15;
+      h *= 0x846CA68Bu;
+      h ^= h >> 16;
+      return h * (1.0 / 4294967296.0);
+    };
+    const double su = next(), sv = next();
+    for (int k = 0; k < rays; ++k) {
+      double u = unit[k].x + su, v = unit[k].y + sv;
+      u -= std::floor(u);
+      v -= std::floor(v);
+      const double r = std::sqrt(u), phi = 2.0 * 3.14159265358979 * v;
+      dirs[k] = {r * std::cos(phi), r * std::sin(phi), std::sqrt(1.0 - u)};
+    }
+  };
+  struct Ray {
+    glm::dvec3 p, d;
+    double weight, length;
+    int events;
+  };
+  std::vector<Ray> stack;
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       const glm::dvec3 start(-hx + (i + 0.5) * size_x / nx,
                              -hy + (j + 0.5) * size_y / ny, 0.0);
+      texel_directions(i, j);
       glm::dvec3 sum(0.0), outside(0.0), board[4] = {};
       const double sky = o.ambient_share;
       for (const glm::dvec3& d0 : dirs) {
-        glm::dvec3 p = start, d = d0;
-        double weight = 1.0, length = 0.0;
         // The shader's sky term (WaterShading::floor_sky) takes every
         // upward direction to the surface at once; the sky's light along
         // this one is counted below wherever the ray actually leaves (the
@@ -332,58 +455,89 @@ FloorReturnMap ComputeFloorReturn(const WaterOptics& o, double size_x,
         // the uniform term's share of it comes off here.
         outside -= (1.0 - FresnelReflectance(d0.z, n, 1.0)) * n * n * sky *
                    glm::exp(-sigma * (depth / d0.z));
-        for (int event = 0; event < 64 && weight > 1e-4; ++event) {
+        stack.assign(1, Ray{start, d0, 1.0, 0.0, 0});
+        while (!stack.empty()) {
+          Ray ray = stack.back();
+          stack.pop_back();
+          glm::dvec3& p = ray.p;
+          glm::dvec3& d = ray.d;
+          if (ray.weight < 1e-4 || ray.events >= 64) continue;
+          ++ray.events;
           const double tz =
               d.z > 0 ? (depth - p.z) / d.z : (d.z < 0 ? -p.z / d.z : 1e30);
           const double tx =
               d.x > 0 ? (hx - p.x) / d.x : (d.x < 0 ? (-hx - p.x) / d.x : 1e30);
           const double ty =
               d.y > 0 ? (hy - p.y) / d.y : (d.y < 0 ? (-hy - p.y) / d.y : 1e30);
-          const double t = std::min(tz, std::min(tx, ty));
+          const double t = std::max(std::min(tz, std::min(tx, ty)), 0.0);
           p += t * d;
-          length += t;
+          ray.length += t;
+          const glm::dvec3 absorbed = glm::exp(-sigma * ray.length);
           if (t == tz && d.z < 0) {
-            sum += weight * glm::exp(-sigma * length);  // back on the floor
-            break;
+            sum += ray.weight * absorbed;  // back on the floor
+            continue;
           }
           if (t == tz) {
             const double r = FresnelReflectance(d.z, n, 1.0);
-            outside +=
-                weight * (1.0 - r) * n * n * sky * glm::exp(-sigma * length);
-            weight *= r;
+            outside += ray.weight * (1.0 - r) * n * n * sky * absorbed;
+            ray.weight *= r;
             d.z = -d.z;
+            stack.push_back(ray);
+            continue;
+          }
+          const bool x_wall = t == tx;
+          const double cos_n = std::abs(x_wall ? d.x : d.y);
+          const WallPassage pass =
+              ThroughSideWall(cos_n, d.z, p.z, depth, height, thickness, n, ng);
+          // Out of the glass: the board around the tank below, the sky
+          // above. Radiance over n^2 is what an interface keeps, so the
+          // outside's radiance L arrives in the water as n^2 T L (its rays'
+          // solid angle narrows by n^2 on the way in).
+          const glm::dvec3 share = ray.weight * n * n * absorbed;
+          const int w = x_wall ? (d.x > 0 ? 0 : 1) : (d.y > 0 ? 2 : 3);
+          const glm::dvec3 wall_n =
+              x_wall ? glm::dvec3(d.x > 0 ? -1.0 : 1.0, 0.0, 0.0)
+                     : glm::dvec3(0.0, d.y > 0 ? -1.0 : 1.0, 0.0);
+          const glm::dvec3 out = glm::refract(d, wall_n, n);
+          const glm::dvec3 out_down(out.x, out.y, -std::abs(out.z));
+          for (const WallPassage::Exit& e : pass.out) {
+            if (!e.down) {
+              outside += share * e.share * sky;
+              continue;
+            }
+            // Down to the board beyond the glass, from the exit's height.
+            board[w] += share * e.share;
+            const double s_land = e.z / std::max(-out_down.z, 1e-9);
+            const glm::dvec2 at(p.x - wall_n.x * thickness,
+                                p.y - wall_n.y * thickness);
+            landings[w].emplace_back(
+                at + s_land * glm::dvec2(out_down.x, out_down.y),
+                share.g * e.share);
+          }
+          // The board under the glass counts as the board at the wall's
+          // foot (its own light is not modelled apart).
+          if (pass.under > 0) {
+            board[w] += share * pass.under;
+            landings[w].emplace_back(glm::dvec2(p.x - wall_n.x * thickness,
+                                                p.y - wall_n.y * thickness),
+                                     share.g * pass.under);
+          }
+          outside += share * pass.top * sky;
+          glm::dvec3 mirrored = d;
+          if (x_wall) {
+            mirrored.x = -mirrored.x;
           } else {
-            const bool x_wall = t == tx;
-            const double r =
-                SideWallReflectance(std::abs(x_wall ? d.x : d.y), n, ng);
-            // Out through the glass: the board around the tank below, the
-            // sky above. Radiance over n^2 is what an interface keeps, so
-            // the outside's radiance L arrives in the water as n^2 T L
-            // (its rays' solid angle narrows by n^2 on the way in).
-            const glm::dvec3 share =
-                weight * (1.0 - r) * n * n * glm::exp(-sigma * length);
-            if (d.z < 0 && r < 1.0) {
-              // Walls +x, -x, +y, -y. A thin slab refracts as water to
-              // air; the ray lands on the board at z = 0.
-              const int w = x_wall ? (d.x > 0 ? 0 : 1) : (d.y > 0 ? 2 : 3);
-              board[w] += share;
-              const glm::dvec3 wall_n =
-                  x_wall ? glm::dvec3(d.x > 0 ? -1.0 : 1.0, 0.0, 0.0)
-                         : glm::dvec3(0.0, d.y > 0 ? -1.0 : 1.0, 0.0);
-              const glm::dvec3 out = glm::refract(d, wall_n, n);
-              const double s_land = p.z / -out.z;
-              landings[w].emplace_back(
-                  glm::dvec2(p.x + s_land * out.x, p.y + s_land * out.y),
-                  share.g);
-            } else if (d.z >= 0) {
-              outside += share * sky;
-            }
-            weight *= r;
-            if (x_wall) {
-              d.x = -d.x;
-            } else {
-              d.y = -d.y;
-            }
+            mirrored.y = -mirrored.y;
+          }
+          if (pass.back_same > 0) {
+            stack.push_back(Ray{p, mirrored, ray.weight * pass.back_same,
+                                ray.length, ray.events});
+          }
+          if (pass.back_turned > 0) {
+            stack.push_back(Ray{glm::dvec3(p.x, p.y, pass.turned_z),
+                                glm::dvec3(mirrored.x, mirrored.y, -mirrored.z),
+                                ray.weight * pass.back_turned, ray.length,
+                                ray.events});
           }
         }
       }

@@ -182,25 +182,29 @@ double UnderGlassDirectLight(const WaterOptics& optics, const glm::dvec3& light,
 // onto the floor, per band, in the tank's box: rays leave the floor
 // cosine-distributed and are followed through specular events only, the
 // surface at rest reflecting by Fresnel (totally beyond the critical angle)
-// and the side walls by a thin glass slab's Fresnel (water-glass, then
-// glass-air, totally beyond its critical angle), until they come back down
-// to the floor, with Beer-Lambert along the way. In an unbounded layer this
-// is DiffuseInternalReflectance less the absorption; near walls and in a
-// small tank part of the light leaves through the glass. By reciprocity the
-// same directions bring the surroundings' light in: what leaves through a
-// wall going down lands on the board around the tank (radiance
-// `surround_radiance`), going up it sees the sky (radiance a), and that
-// radiance L comes in as n^2 T L (T the glass's transmittance). The sky
-// seen through the surface is the shading's uniform term (floor_sky), which
-// takes every upward direction to the surface at once; near the walls some
-// of them meet a wall first, so the map counts the sky wherever each ray
-// actually leaves (the surface, directly or after the walls' reflections,
-// or a wall) and takes the uniform term's share off: `surround` is what the
-// uniform term misses (negative where the walls show less than the sky they
-// hide). In a world of uniform radiance over a white floor without
-// absorption the floor's light is then n^2 times it at every texel
-// (Clausius' law). A fixed,
-// stratified set of `rays` directions per texel (deterministic).
+// and the side walls as glass slabs `glass_thickness_m` thick and
+// `wall_height_m` tall: Fresnel at the water-glass and glass-air faces
+// (totally beyond their critical angles), the slab guiding what its outer
+// face reflects totally, and its top face turning what reaches it back down
+// (part of the floor's light that leaves a thin wall upwards comes back to
+// the floor this way), with Beer-Lambert along the way. In an unbounded
+// layer this is DiffuseInternalReflectance less the absorption; near walls
+// and in a small tank part of the light leaves through the glass. By
+// reciprocity the same directions bring the surroundings' light in: what
+// leaves through a wall going down lands on the board around the tank
+// (radiance `surround_radiance`; the board under the glass counts as the
+// board at the wall's foot), going up it sees the sky (radiance a), and
+// that radiance L comes in as n^2 T L (T the way's transmittance). The sky
+// seen through the surface is the shading's uniform term (floor_sky),
+// which takes every upward direction to the surface at once; near the walls
+// some of them meet a wall first, so the map counts the sky wherever each
+// ray actually leaves (the surface, directly or after the walls'
+// reflections, or a wall) and takes the uniform term's share off:
+// `surround` is what the uniform term misses (negative where the walls
+// show less than the sky they hide). In a world of uniform radiance over a
+// white floor without absorption the floor's light is then n^2 times it at
+// every texel (Clausius' law). A fixed, stratified set of `rays` directions
+// per texel (deterministic).
 struct FloorReturnMap {
   int nx = 0, ny = 0;  // texels over the tank floor, row j along y
   // nx * ny, RGB: the share of the floor's light returned to it, and the
@@ -222,9 +226,9 @@ struct FloorReturnMap {
   std::vector<glm::dvec2> board_points[4];
 };
 FloorReturnMap ComputeFloorReturn(const WaterOptics& optics, double size_x_m,
-                                  double size_y_m, double depth_m, int nx,
-                                  int ny, int rays,
-                                  double surround_radiance = 0.85);
+                                  double size_y_m, double depth_m,
+                                  double wall_height_m, int nx, int ny,
+                                  int rays, double surround_radiance = 0.85);
 
 }  // namespace ripple::render
 

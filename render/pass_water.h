@@ -65,7 +65,7 @@ class WaterPass {
 
   // Texels of the floor-return map (optics.h) over the tank floor, and the
   // directions traced per texel; recomputed when the tank changes.
-  static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 512;
+  static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 2048;
 
  private:
   // Variant bits: one program per combination of these effects.

@@ -47,7 +47,7 @@ double FloorSeen(const RendererOptions& o, const SceneInputs& in,
   const WaterShading sh =
       ComputeWaterShading(o.optics, t.water_level, in.light_in_tank);
   const FloorReturnMap ret = ComputeFloorReturn(
-      o.optics, t.size_x, t.size_y, t.water_level,
+      o.optics, t.size_x, t.size_y, t.water_level, t.wall_height,
       internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
       internal::WaterPass::kReturnRays);
   const double board = SrgbToLinear(board_grey / 255.0);
@@ -640,8 +640,9 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
     // The floor-return map, bilinear at the floor point (tank centre).
     const FloorReturnMap ret = ComputeFloorReturn(
         o.optics, s.inputs.tank.size_x, s.inputs.tank.size_y,
-        s.inputs.tank.water_level, internal::WaterPass::kReturnNx,
-        internal::WaterPass::kReturnNy, internal::WaterPass::kReturnRays);
+        s.inputs.tank.water_level, s.inputs.tank.wall_height,
+        internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
+        internal::WaterPass::kReturnRays);
     const glm::dvec3 floor_point =
         eye + ray * ((eye.z - s.inputs.tank.water_level) / -ray.z) +
         glm::dvec3(0.0);

@@ -88,6 +88,9 @@ struct FloorReturnLight {
   // four), lit as the floor's mean with the surface's return to it, over n^2
   // (what the back and side walls mirror into the tank, walls.frag).
   glm::vec3 floor_seen{0.0f};
+  // The floor's mean albedo as the video shows it (linear, each band at most
+  // 0.95): the floor around a point, whose light the surface returns to it.
+  glm::vec3 floor_albedo{kPaperRadiance};
 };
 
 // The floor's mean light under water, relative to the dry board: the sky
@@ -100,6 +103,18 @@ struct FloorReturnLight {
 inline glm::vec3 FloorMeanLight(const WaterShading& s,
                                 const FloorReturnLight& r) {
   return s.floor_sky + s.floor_sun + r.mean_surround;
+}
+
+// What the surface sends back to a floor point per unit of its return
+// share: the radiance of the floor around it, of the floor's mean albedo,
+// lit as the floor's mean and by its own return,
+// rho_mean E_mean / (1 - R_mean rho_mean). A point's own albedo does not
+// enter: on a tiled floor a white tile and the grout beside it get the
+// same light back.
+inline glm::vec3 FloorAroundLight(const WaterShading& s,
+                                  const FloorReturnLight& r) {
+  return r.floor_albedo * FloorMeanLight(s, r) /
+         (glm::vec3(1.0f) - r.mean_return * r.floor_albedo);
 }
 
 struct FrameState {

@@ -128,14 +128,15 @@ glm::vec3 DaylightSkyRadiance(const Daylight& daylight,
 // vectors), for a tank of rest depth `depth_m` under a light towards
 // `light_in_tank` (z > 0, normalised inside). The shader combines, for a
 // floor point of video colour V seen through the surface:
-//   V * (E + R * V * E_mean / (1 - R_mean * V)) / n^2,
+//   V * (E + R * V_mean * E_mean / (1 - R_mean * V_mean)) / n^2,
 //   E = floor_sky + floor_sun * caustics * shadow (+ the surroundings),
 // i.e. the sky and the direct light reaching the floor through the flat
 // surface (relative to the dry board), the floor<->surface inter-reflection
 // (total internal reflection sends light back onto the floor, from two
 // depths times the critical angle's tangent away or more, so from the floor
-// around, lit as the floor's mean E_mean: render/frame_state.h,
-// FloorMeanLight; on a uniformly lit floor this is V E / (1 - R V)) and
+// around, of the floor's mean albedo V_mean and lit as the floor's mean
+// E_mean: render/frame_state.h, FloorAroundLight; on a uniform, uniformly
+// lit floor this is V E / (1 - R V)) and
 // radiance's 1/n^2 on leaving the water; then Beer-Lambert along the view
 // path and Fresnel against the reflection.
 struct WaterShading {
@@ -203,8 +204,8 @@ double UnderGlassDirectLight(const WaterOptics& optics, const glm::dvec3& light,
 // `surround` is what the uniform term misses (negative where the walls
 // show less than the sky they hide). In a world of uniform radiance over a
 // white floor without absorption the floor's light is then n^2 times it at
-// every texel (Clausius' law). A fixed, stratified set of `rays` directions
-// per texel (deterministic).
+// every texel (Clausius' law). A stratified set of `rays` directions per
+// texel, shifted by the texel's own fixed offset (deterministic).
 struct FloorReturnMap {
   int nx = 0, ny = 0;  // texels over the tank floor, row j along y
   // nx * ny, RGB: the share of the floor's light returned to it, and the

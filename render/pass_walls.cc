@@ -42,8 +42,7 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     inv_n2_[i] = programs_[i].Uniform("u_inv_n2");
     z_range_[i] = programs_[i].Uniform("u_z_range");
     return_tint_[i] = programs_[i].Uniform("u_return_tint");
-    floor_mean_[i] = programs_[i].Uniform("u_floor_mean");
-    return_mean_[i] = programs_[i].Uniform("u_return_mean");
+    floor_around_[i] = programs_[i].Uniform("u_floor_around");
     board_mirror_[i] = programs_[i].Uniform("u_board_mirror");
     floor_seen_[i] = programs_[i].Uniform("u_floor_seen");
   }
@@ -105,8 +104,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
     SetUniform(floor_sun_[p], f.shading.floor_sun);
     glUniform1f(inv_n2_[p], f.shading.inv_n2);
     SetUniform(return_tint_[p], floor_return.tint);
-    SetUniform(floor_mean_[p], FloorMeanLight(f.shading, floor_return));
-    SetUniform(return_mean_[p], floor_return.mean_return);
+    SetUniform(floor_around_[p], FloorAroundLight(f.shading, floor_return));
     glUniform1f(board_mirror_[p], board_mirror ? 1.0f : 0.0f);
     SetUniform(floor_seen_[p], floor_return.floor_seen);
     glUniform2f(z_range_[p], part.z0, part.z1);

@@ -48,9 +48,8 @@ class WallsPass {
   CommonUniforms common_[kPrograms];
   GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
-        return_tint_[kPrograms] = {}, floor_mean_[kPrograms] = {},
-        return_mean_[kPrograms] = {}, board_mirror_[kPrograms] = {},
-        floor_seen_[kPrograms] = {};
+        return_tint_[kPrograms] = {}, floor_around_[kPrograms] = {},
+        board_mirror_[kPrograms] = {}, floor_seen_[kPrograms] = {};
   // The walls' parts are cut this far outside the surface's height range:
   // the meniscus line is 0.7 mm wide, and the range's 8-bit code and the
   // mesh's filtering stay well inside it.

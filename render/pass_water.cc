@@ -41,8 +41,7 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   }
   s->glint_peak = p.Uniform("u_glint_peak");
   s->return_tint = p.Uniform("u_return_tint");
-  s->floor_mean = p.Uniform("u_floor_mean");
-  s->return_mean = p.Uniform("u_return_mean");
+  s->floor_around = p.Uniform("u_floor_around");
   s->inv_alpha2 = p.Uniform("u_inv_alpha2");
   glUniform1i(p.Uniform("u_occluders"), kUnitOccluders);
   glUniform1i(p.Uniform("u_plate"), kUnitPlate);
@@ -225,6 +224,26 @@ void WaterPass::UpdateFloorSeen(const FrameState& f) {
     floor_albedo_ = count > 0 ? sum / double(count)
                               : with_return(glm::dvec3(kPaperRadiance));
     have_floor_albedo_ = count > 0;
+    // The whole floor's mean albedo (what the surface's return carries):
+    // the video's floor at the centres of a 12 x 8 grid over the tank.
+    constexpr int kGridX = 12, kGridY = 8;
+    glm::dvec3 floor_sum(0.0);
+    int floor_count = 0;
+    for (int j = 0; j < kGridY; ++j) {
+      for (int i = 0; i < kGridX; ++i) {
+        const glm::dvec2 q(-hx + (i + 0.5) * 2.0 * hx / kGridX,
+                           -hy + (j + 0.5) * 2.0 * hy / kGridY);
+        glm::dvec3 rho;
+        if (VideoRadianceAt(v, *f.k, f.scene->cam_from_tank, q, f.srgb_output,
+                            &rho)) {
+          floor_sum += glm::min(rho, glm::dvec3(0.95));
+          ++floor_count;
+        }
+      }
+    }
+    if (floor_count > 0) {
+      return_light_.floor_albedo = glm::vec3(floor_sum / double(floor_count));
+    }
   }
   const glm::dvec3 light(FloorMeanLight(f.shading, return_light_));
   return_light_.floor_seen =
@@ -350,8 +369,7 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform1f(s.glint_peak, w.glint_peak);
   glUniform1f(s.inv_alpha2, w.inv_alpha2);
   SetUniform(s.return_tint, return_light_.tint);
-  SetUniform(s.floor_mean, FloorMeanLight(w, return_light_));
-  SetUniform(s.return_mean, return_light_.mean_return);
+  SetUniform(s.floor_around, FloorAroundLight(w, return_light_));
   // Locations are -1 in the variants without the pen or the plate.
   SetUniform(s.pen_tip, real.pen_tip);
   SetUniform(s.pen_axis, real.pen_axis);

@@ -87,8 +87,7 @@ class WaterPass {
     CommonUniforms common;
     // Per-frame optics (FrameState::shading).
     GLint floor_sky = -1, floor_sun = -1, inv_n2 = -1, glass_t = -1,
-          glint_peak = -1, inv_alpha2 = -1, return_tint = -1, floor_mean = -1,
-          return_mean = -1;
+          glint_peak = -1, inv_alpha2 = -1, return_tint = -1, floor_around = -1;
     GLint under_glass[4] = {-1, -1, -1, -1};  // per wall
     // kRealPen, kRealPlate.
     GLint pen_tip = -1, pen_axis = -1, pen_length = -1, pen_radius = -1,

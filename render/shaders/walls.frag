@@ -34,8 +34,7 @@ uniform sampler2D u_scene;
 uniform sampler2D u_receiver;
 uniform sampler2D u_floor_return;  // as in water.frag
 uniform vec3 u_return_tint;
-uniform vec3 u_floor_mean;   // as in water.frag
-uniform vec3 u_return_mean;
+uniform vec3 u_floor_around;  // as in water.frag
 uniform vec3 u_floor_sky;
 uniform vec3 u_floor_sun;
 uniform float u_inv_n2;
@@ -62,9 +61,7 @@ vec3 FloorUnderWater(vec3 f, vec3 video) {
   vec4 back = textureLod(u_floor_return, uv, 0.0);
   vec3 light = u_floor_sky + u_floor_sun * lit + back.rgb;
   vec3 returned = back.a * u_return_tint;
-  vec3 v95 = min(video, vec3(0.95));
-  vec3 around = u_floor_mean / (1.0 - u_return_mean * v95);
-  return video * (light + returned * v95 * around);
+  return video * (light + returned * u_floor_around);
 }
 
 // Distance along `d` from `p` (inside the tank) to the floor, the rest

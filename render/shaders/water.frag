@@ -54,8 +54,7 @@ uniform vec3 u_return_tint;
 // The floor's mean light and the map's mean return share per band (the
 // floor around a point, which the surface's return comes from;
 // frame_state.h).
-uniform vec3 u_floor_mean;
-uniform vec3 u_return_mean;
+uniform vec3 u_floor_around;
 uniform float u_inv_n2;
 uniform float u_glass_t;         // a glass wall seen from inside the water
 uniform vec3 u_under_glass[4];   // the board under a wall, over the dry
@@ -239,14 +238,13 @@ void main() {
   floor_light += back.rgb;
   // An obstacle's pixel holds its radiance in the water (solid.frag): only
   // the way out, 1/n^2, applies to it.
-  // The surface's return comes from the floor around, lit as the floor's
-  // mean: L = V (E + R V E_mean / (1 - R_mean V)), which is V E / (1 - R V)
-  // on a uniformly lit floor.
-  vec3 v95 = min(video, vec3(0.95));
-  vec3 around = u_floor_mean / (1.0 - u_return_mean * v95);
-  vec3 under = mix(video * (floor_light + returned * v95 * around), video,
-                   obstacle) *
-               u_inv_n2;
+  // The surface's return comes from the floor around, of the floor's mean
+  // albedo and lit as the floor's mean: L = V (E + R u_floor_around), with
+  // u_floor_around = V_mean E_mean / (1 - R_mean V_mean); V E / (1 - R V) on
+  // a uniform, uniformly lit floor.
+  vec3 under =
+      mix(video * (floor_light + returned * u_floor_around), video, obstacle) *
+      u_inv_n2;
   // Out through a wall: the board beyond it (the video) or the sky, through
   // the glass; the board under the glass, lit through it (optics.h,
   // under_glass: per wall, from the basis that pass_water.cc makes of it).

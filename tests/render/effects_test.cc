@@ -691,6 +691,61 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
   }
 }
 
+// The surface's return comes from the floor around a point, so on a floor
+// of two albedos a dark square and the bright square beside it get the same
+// light back: under flat clear water their pixels keep the ratio of their
+// albedos (L = V (E + R V_mean E_mean / (1 - R_mean V_mean))). Were the
+// return the point's own light, the dark square would read about 15% too
+// dark against the bright one.
+TEST(EffectsTest, TheSurfacesReturnCarriesTheFloorsMeanAlbedo) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = MakeScene(kW, kH, View::kTop, false);
+  constexpr std::uint8_t kDark = 60, kBright = 220;  // linear video
+  constexpr int kSquare = 32;                        // video pixels
+  for (int y = 0; y < kH; ++y) {
+    for (int x = 0; x < kW; ++x) {
+      const bool bright = ((x / kSquare) + (y / kSquare)) % 2 == 0;
+      for (int c = 0; c < 3; ++c)
+        s.video[(static_cast<size_t>(y) * kW + x) * 3 + c] =
+            bright ? kBright : kDark;
+    }
+  }
+  s.inputs.effects.reflection = false;
+  s.inputs.effects.shadows = false;
+  s.inputs.effects.caustics = false;
+  s.inputs.effects.walls = false;
+  RendererOptions o;
+  o.video_transfer = Transfer::kLinear;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  // Around the image's centre (the floor's middle): the pixels well inside
+  // a dark or a bright square (away from the blurred edges between them).
+  const cv::Rect window(kW / 2 - 40, kH / 2 - 30, 80, 60);
+  double lo = 255, hi = 0;
+  for (int y = window.y; y < window.y + window.height; ++y)
+    for (int x = window.x; x < window.x + window.width; ++x) {
+      lo = std::min(lo, double(out.at<cv::Vec3b>(y, x)[1]));
+      hi = std::max(hi, double(out.at<cv::Vec3b>(y, x)[1]));
+    }
+  ASSERT_GT(hi - lo, 50.0);
+  double dark = 0, bright = 0;
+  int n_dark = 0, n_bright = 0;
+  for (int y = window.y; y < window.y + window.height; ++y)
+    for (int x = window.x; x < window.x + window.width; ++x) {
+      const double g = out.at<cv::Vec3b>(y, x)[1];
+      if (g < lo + 0.1 * (hi - lo)) dark += g, ++n_dark;
+      if (g > hi - 0.1 * (hi - lo)) bright += g, ++n_bright;
+    }
+  ASSERT_GT(n_dark, 100);
+  ASSERT_GT(n_bright, 100);
+  // Under the highlight shoulder's knee: the output is linear here.
+  ASSERT_LT(bright / n_bright, 255.0 * o.optics.highlight_knee);
+  const double ratio = (dark / n_dark) / (bright / n_bright);
+  EXPECT_NEAR(ratio / (double(kDark) / kBright), 1.0, 0.03)
+      << "dark " << dark / n_dark << " bright " << bright / n_bright;
+}
+
 // A virtual obstacle's face sees the sky above and the ground below by its
 // view factors: a box on the board, out of the light's reach on its
 // camera side, over a uniform grey board, reads albedo x (a (1 + n.z) / 2

@@ -496,6 +496,14 @@ bool ComputeFlip(const FlipOptions& options, const cv::Mat& reference,
   return true;
 }
 
+cv::Mat SrgbToLinear(const cv::Mat& bgr8) {
+  const std::array<float, 256>& decode = SrgbToLinearTable();
+  cv::Mat out;
+  cv::LUT(bgr8, cv::Mat(1, 256, CV_32F, const_cast<float*>(decode.data())),
+          out);
+  return out;
+}
+
 double MeanFlip(const cv::Mat& error_map, const cv::Mat& mask) {
   if (error_map.empty()) return 0;
   RIPPLE_CHECK(error_map.type() == CV_32FC1, "error map must be CV_32FC1");

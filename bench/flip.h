@@ -51,6 +51,10 @@ bool ComputeFlip(const FlipOptions& options, const cv::Mat& reference,
 // A mask of another type or size is a programmer error (RIPPLE_CHECK).
 double MeanFlip(const cv::Mat& error_map, const cv::Mat& mask = cv::Mat());
 
+// A CV_8UC3 sRGB image as CV_32FC3 linear light, decoded as ComputeFlip
+// decodes its 8-bit inputs (IEC 61966-2-1).
+cv::Mat SrgbToLinear(const cv::Mat& bgr8);
+
 // `error_map` (CV_32FC1, [0, 1]) as a BGR8 image through the magma colour
 // map, as the paper's figures: black at 0, pale yellow at 1.
 cv::Mat FlipHeatmap(const cv::Mat& error_map);

@@ -7,26 +7,6 @@
 namespace ripple::bench {
 namespace {
 
-// 8-bit sRGB (IEC 61966-2-1) -> linear CV_32FC3.
-cv::Mat DecodeSrgb(const cv::Mat& bgr8) {
-  cv::Mat table(1, 256, CV_32F);
-  for (int i = 0; i < 256; ++i) {
-    const double c = i / 255.0;
-    table.at<float>(i) = static_cast<float>(
-        c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4));
-  }
-  cv::Mat out;
-  cv::Mat channels[3];
-  cv::split(bgr8, channels);
-  for (cv::Mat& c : channels) {
-    cv::Mat l;
-    cv::LUT(c, table, l);
-    c = l;
-  }
-  cv::merge(channels, 3, out);
-  return out;
-}
-
 bool CheckInputs(const cv::Mat& reference, const cv::Mat& test,
                  const cv::Mat& mask, std::string* error) {
   if (reference.type() != CV_8UC3 || test.type() != CV_8UC3 ||
@@ -57,8 +37,8 @@ bool FitUniformGain(const FlipOptions& options, const cv::Mat& reference,
         "(0, max_change)";
     return false;
   }
-  const cv::Mat ref_linear = DecodeSrgb(reference);
-  const cv::Mat test_linear = DecodeSrgb(test);
+  const cv::Mat ref_linear = SrgbToLinear(reference);
+  const cv::Mat test_linear = SrgbToLinear(test);
   cv::Mat scaled, map;
   auto flip_at = [&](double gain, double* out) {
     test_linear.copyTo(scaled);
@@ -106,7 +86,7 @@ bool ResolutionLossFlip(const FlipOptions& options, const cv::Mat& reference,
     *error = "FLIP budget: magnification must lie in [1, 8]";
     return false;
   }
-  const cv::Mat linear = DecodeSrgb(reference);
+  const cv::Mat linear = SrgbToLinear(reference);
   cv::Mat coarse, back;
   if (magnification == 1.0) {
     back = linear;

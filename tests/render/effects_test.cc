@@ -60,6 +60,15 @@ double FloorSeen(const RendererOptions& o, const SceneInputs& in,
   return rho / (1.0 - back * std::min(rho, 0.95)) * light_mean * sh.inv_n2;
 }
 
+// Every effect but refraction off: the water's own shading of the floor it
+// shows, without reflections, shadows, caustics or the walls.
+void RefractionOnly(TestScene* s) {
+  s->inputs.effects.reflection = false;
+  s->inputs.effects.shadows = false;
+  s->inputs.effects.caustics = false;
+  s->inputs.effects.walls = false;
+}
+
 // The pixel (x, y) on which tank point p projects (the scene's pinhole).
 cv::Point ImagePoint(const TestScene& s, const glm::dvec3& p) {
   const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(p, 1.0);
@@ -615,10 +624,7 @@ TEST(EffectsTest, FlatClearWaterReadsWhatTheOpticsModelPredicts) {
     TestScene s = MakeScene(kW, kH, View::kTop, false);
     const std::uint8_t grey[3] = {150, 180, 210};  // B, G, R
     for (size_t i = 0; i < s.video.size(); ++i) s.video[i] = grey[i % 3];
-    s.inputs.effects.reflection = false;
-    s.inputs.effects.shadows = false;
-    s.inputs.effects.caustics = false;
-    s.inputs.effects.walls = false;
+    RefractionOnly(&s);
     RendererOptions o;
     o.video_transfer = transfer;
     auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);
@@ -710,10 +716,7 @@ TEST(EffectsTest, TheSurfacesReturnCarriesTheFloorsMeanAlbedo) {
             bright ? kBright : kDark;
     }
   }
-  s.inputs.effects.reflection = false;
-  s.inputs.effects.shadows = false;
-  s.inputs.effects.caustics = false;
-  s.inputs.effects.walls = false;
+  RefractionOnly(&s);
   RendererOptions o;
   o.video_transfer = Transfer::kLinear;
   auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);

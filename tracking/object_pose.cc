@@ -54,6 +54,7 @@ double NormalizedSse(const Camera& camera,
   double sse = 0;
   for (const TagObservation& o : observations) {
     for (int k = 0; k < 4; ++k) {
+      if (o.occluded[k]) continue;
       const Eigen::Vector3d p = r * o.corners_in_object[k] + t;
       if (p.z() <= 1e-6) return std::numeric_limits<double>::infinity();
       const double dx = camera.fx * (p.x() / p.z() - o.normalized[k].x());
@@ -110,11 +111,13 @@ Pose Refine(const PoseEstimatorOptions& options, const Camera& camera,
       scale = std::clamp(c, 0.05, 1.0);  // weight c^2
     }
     for (int k = 0; k < 4; ++k) {
+      if (o.occluded[k]) continue;
       auto* cost = new ceres::AutoDiffCostFunction<CornerCost, 2, 4, 3>(
           new CornerCost(&camera, o.corners_in_object[k], o.pixels[k], scale));
       problem.AddResidualBlock(cost, loss.get(), q, t);
     }
   }
+  if (problem.NumResidualBlocks() == 0) return initial;
   problem.SetManifold(q, new ceres::EigenQuaternionManifold);
   ceres::Solver::Options solver_options;
   solver_options.linear_solver_type = ceres::DENSE_QR;
@@ -167,10 +170,17 @@ std::vector<TagObservation> MatchObservations(
       o.corners_in_object[k] = placement->CornerInObject(k);
       o.pixels[k] = d.corners[k];
       o.normalized[k] = camera.UndistortToNormalized(d.corners[k]);
+      o.occluded[k] = d.corner_occluded[k];
     }
     o.size_px = d.SizePx();
     out.push_back(o);
   }
+  int usable = 0;
+  for (const TagObservation& o : out)
+    usable += static_cast<int>(
+        std::count(o.occluded.begin(), o.occluded.end(), false));
+  if (usable < 3)
+    for (TagObservation& o : out) o.occluded.fill(false);
   return out;
 }
 
@@ -213,6 +223,7 @@ double ReprojectionSse(const Camera& camera,
   int n = 0;
   for (const TagObservation& o : observations) {
     for (int k = 0; k < 4; ++k) {
+      if (o.occluded[k]) continue;
       const Eigen::Vector3d p = cam_from_object * o.corners_in_object[k];
       if (p.z() <= 1e-6) {
         sse = std::numeric_limits<double>::infinity();
@@ -327,6 +338,7 @@ double PointUncertainty(const Camera& camera,
   Eigen::Matrix<double, 6, 6> jtj = Eigen::Matrix<double, 6, 6>::Zero();
   for (const TagObservation& o : observations) {
     for (int k = 0; k < 4; ++k) {
+      if (o.occluded[k]) continue;
       const Eigen::Vector3d y = r * o.corners_in_object[k];
       const Eigen::Vector3d p = y + t;
       if (p.z() <= 1e-6) return std::numeric_limits<double>::infinity();

@@ -28,10 +28,15 @@ struct TagObservation {
   std::array<Eigen::Vector2d, 4> pixels;      // distorted, OpenCV convention
   std::array<Eigen::Vector2d, 4> normalized;  // undistorted, z = 1 plane
   double size_px = 0;                         // mean edge length in the image
+  // Corners the detector found hidden (TagDetection::corner_occluded): left
+  // out of every error and fit below.
+  std::array<bool, 4> occluded{false, false, false, false};
 };
 
 // Matches detections to the object's tags (unknown ids are skipped) and
-// undistorts their corners.
+// undistorts their corners. Hidden corners stay marked as long as at least
+// three corners of the object are left (three fix a pose); otherwise all
+// are used.
 std::vector<TagObservation> MatchObservations(
     const Camera& camera, const std::vector<TagPlacement>& tags,
     const std::vector<TagDetection>& detections);

@@ -45,6 +45,20 @@ bool TagDetectorOptions::IsValid(std::string* error) const {
     return fail("min_decision_margin must be >= 0");
   if (!(std::abs(pixel_offset_px) <= 2.0 && std::abs(edge_outward_px) <= 2.0))
     return fail("corner corrections must be within 2 px");
+  return edge_fit_limits.IsValid(error);
+}
+
+bool EdgeFitLimits::IsValid(std::string* error) const {
+  auto fail = [&](const std::string& what) {
+    if (error) *error = what;
+    return false;
+  };
+  if (!(max_shift_px > 0 && max_shift_px <= 10))
+    return fail("edge fit: max_shift_px must be in (0, 10]");
+  if (!(margin_share >= 0 && margin_share <= 1))
+    return fail("edge fit: margin_share must be in [0, 1]");
+  if (!(max_occluded_shift_cells >= 0 && max_occluded_shift_cells <= 8))
+    return fail("edge fit: max_occluded_shift_cells must be in [0, 8]");
   return true;
 }
 
@@ -98,6 +112,8 @@ constexpr int kSteps = 12;  // a profile's intervals across the edge
 // centre + hw n, the window re-centred on the edge.
 struct EdgeProfile {
   Eigen::Vector2d centre;
+  double t =
+      0;  // position along the edge: 0 at its first corner, 1 at its last
   double hw = 0;
   double v[kSteps + 1];
   double Dark() const { return 0.5 * (v[0] + v[1]); }
@@ -134,20 +150,36 @@ bool SampleProfile(const cv::Mat& g, const Eigen::Vector2d& centre,
   return true;
 }
 
+// The share of an edge its profiles span.
+double Support(const std::vector<EdgeProfile>& profiles) {
+  if (profiles.empty()) return 0;
+  const auto [lo, hi] = std::minmax_element(
+      profiles.begin(), profiles.end(),
+      [](const EdgeProfile& a, const EdgeProfile& b) { return a.t < b.t; });
+  return hi->t - lo->t;
+}
+
+// How many profiles an edge of `length` pixels is read at.
+int SamplesAlongEdge(double length) {
+  return std::clamp(static_cast<int>(length / 3), 5, 16);
+}
+
 // Profiles across the edge a -> b with outward normal n; see FitTagEdges.
 // Each is centred on the mid-level crossing of its own dark and bright ends
-// (three passes: the first looks wider, for a coarse corner).
+// (three passes: the first looks wider, for a coarse corner). The positions
+// (EdgeProfile::t) of profiles that leave the image or find no edge go to
+// `failed`.
 std::vector<EdgeProfile> SampleEdge(const cv::Mat& g, const Eigen::Vector2d& a,
                                     const Eigen::Vector2d& b,
-                                    const Eigen::Vector2d& n,
-                                    double half_width) {
-  const double length = (b - a).norm();
-  const int samples = std::clamp(static_cast<int>(length / 3), 5, 16);
+                                    const Eigen::Vector2d& n, double half_width,
+                                    std::vector<double>* failed) {
+  const int samples = SamplesAlongEdge((b - a).norm());
   std::vector<EdgeProfile> out;
   out.reserve(samples);
   for (int i = 0; i < samples; ++i) {
     EdgeProfile f;
-    f.centre = a + (0.12 + 0.76 * (i + 0.5) / samples) * (b - a);
+    f.t = 0.12 + 0.76 * (i + 0.5) / samples;
+    f.centre = a + f.t * (b - a);
     bool ok = false;
     for (int pass = 0; pass < 3; ++pass) {
       ok =
@@ -160,7 +192,11 @@ std::vector<EdgeProfile> SampleEdge(const cv::Mat& g, const Eigen::Vector2d& a,
       if (!ok) break;
       if (pass < 2) f.centre += r * n;  // re-centre the window, then refine
     }
-    if (ok) out.push_back(f);
+    if (ok) {
+      out.push_back(f);
+    } else {
+      failed->push_back(f.t);
+    }
   }
   return out;
 }
@@ -309,22 +345,73 @@ cv::Mat DecodeToLinearLut(geometry::Transfer transfer) {
   return lut;
 }
 
-std::array<Eigen::Vector2d, 4> FitTagEdges(
-    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
-    double cell_px, double max_shift_px, const TagBitmap* bitmap) {
+EdgeFit FitTagEdges(const cv::Mat& gray,
+                    const std::array<Eigen::Vector2d, 4>& corners,
+                    double cell_px, const EdgeFitLimits& limits,
+                    const TagBitmap* bitmap) {
+  EdgeFit fit;
+  fit.corners = corners;
   const Eigen::Vector2d centre =
       0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
   const double half_width = std::clamp(0.6 * cell_px, 1.0, 3.0);
   std::array<Eigen::Vector2d, 4> normals;
   std::array<std::vector<EdgeProfile>, 4> profiles;
+  // Profiles that could not be read (off the image, no edge) or whose white
+  // end is not the margin's, by edge, at their positions along it.
+  std::array<std::vector<double>, 4> covered;
   for (int k = 0; k < 4; ++k) {
     const Eigen::Vector2d a = corners[k], b = corners[(k + 1) % 4];
     Eigen::Vector2d n(b.y() - a.y(), a.x() - b.x());
-    if (n.norm() < 1e-9) return corners;
+    if (n.norm() < 1e-9) return fit;
     n.normalize();
     if (n.dot(0.5 * (a + b) - centre) < 0) n = -n;
     normals[k] = n;
-    profiles[k] = SampleEdge(gray, a, b, n, half_width);
+    profiles[k] = SampleEdge(gray, a, b, n, half_width, &covered[k]);
+  }
+  // The margin is white paper all round the tag: a profile whose white end
+  // reads darker than the tag's white (its upper quartile, which the
+  // uncovered three quarters of the profiles set) lies under a hand, the
+  // pen or a shadow, where the crossing is that of the border against the
+  // occluder. It is left out.
+  std::vector<double> whites;
+  for (const auto& edge : profiles)
+    for (const EdgeProfile& f : edge) whites.push_back(f.Bright());
+  if (!whites.empty()) {
+    const size_t q = whites.size() * 3 / 4;
+    std::nth_element(whites.begin(), whites.begin() + q, whites.end());
+    const double least_white = limits.margin_share * whites[q];
+    for (int k = 0; k < 4; ++k) {
+      // An occluder's own edge is blurred over a profile's spacing: the
+      // profiles next to one it covers are partly covered and are left
+      // out too.
+      const double spacing =
+          0.76 / SamplesAlongEdge((corners[(k + 1) % 4] - corners[k]).norm());
+      std::vector<double> dark;
+      for (const EdgeProfile& f : profiles[k])
+        if (f.Bright() < least_white) dark.push_back(f.t);
+      std::vector<EdgeProfile> kept;
+      for (const EdgeProfile& f : profiles[k]) {
+        const bool beside = std::any_of(
+            dark.begin(), dark.end(),
+            [&](double t) { return std::abs(t - f.t) < 1.5 * spacing; });
+        if (beside) {
+          covered[k].push_back(f.t);
+        } else {
+          kept.push_back(f);
+        }
+      }
+      profiles[k].swap(kept);
+    }
+  }
+  // Corner k ends edge k - 1 and starts edge k: covered profiles on the
+  // halves of those edges next to it mean the occluder reaches towards it.
+  std::array<bool, 4> covered_near;
+  for (int k = 0; k < 4; ++k) {
+    const int prev = (k + 3) % 4;
+    covered_near[k] = std::any_of(covered[prev].begin(), covered[prev].end(),
+                                  [](double t) { return t > 0.5; }) ||
+                      std::any_of(covered[k].begin(), covered[k].end(),
+                                  [](double t) { return t < 0.5; });
   }
   // Where the correction applies, by the cell's size in pixels. On cells
   // under ~3 px the reading point lies within ~1.5 px of the edge and of
@@ -388,6 +475,7 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
       for (const EdgeProfile& f : profiles[k]) {
         EdgeProfile m;
         const Eigen::Vector2d on_line = lines[k].Project(f.centre);
+        m.t = f.t;
         if (SampleProfile(gray, on_line, normals[k], half_width, &m))
           moved.push_back(m);
       }
@@ -405,9 +493,12 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
       }
     }
   }
-  std::array<Eigen::Vector2d, 4> out = corners;
   for (int k = 0; k < 4; ++k) {
     const int prev = (k + 3) % 4;
+    // Where an occluder covers the margin next to a corner, libapriltag's
+    // outline follows the occluder: the corner is trusted only when both
+    // its edges are fitted on uncovered profiles.
+    fit.occluded[k] = covered_near[k];
     if (!ok[prev] || !ok[k]) continue;
     // point_prev + s dir_prev = point_k + u dir_k
     Eigen::Matrix2d m;
@@ -417,9 +508,23 @@ std::array<Eigen::Vector2d, 4> FitTagEdges(
     const Eigen::Vector2d su =
         m.inverse() * (lines[k].point - lines[prev].point);
     const Eigen::Vector2d c = lines[prev].point + su(0) * lines[prev].dir;
-    if ((c - corners[k]).norm() <= max_shift_px) out[k] = c;
+    // Next to an occluder the lines are fitted on what is left of the two
+    // edges and extrapolated to the corner: only from a fifth of each edge
+    // or more (on less, a profile's noise tilts the line by more than the
+    // corner may be off).
+    const bool supported =
+        std::min(Support(profiles[prev]), Support(profiles[k])) >= 0.2;
+    if (covered_near[k] && !supported) continue;
+    const double limit =
+        covered_near[k] ? std::max(limits.max_shift_px,
+                                   limits.max_occluded_shift_cells * cell_px)
+                        : limits.max_shift_px;
+    if ((c - corners[k]).norm() <= limit) {
+      fit.corners[k] = c;
+      fit.occluded[k] = false;
+    }
   }
-  return out;
+  return fit;
 }
 
 struct TagDetector::Impl {
@@ -526,10 +631,10 @@ std::vector<TagDetection> TagDetector::Detect(
           }
           if (it != impl_->bitmaps.end()) bitmap = &it->second;
         }
-        d.corners =
-            CorrectCorners(FitTagEdges(*gray, shifted, cell_px,
-                                       options_.edge_fit_max_shift_px, bitmap),
-                           0.0, options_.edge_outward_px);
+        const EdgeFit fit = FitTagEdges(*gray, shifted, cell_px,
+                                        options_.edge_fit_limits, bitmap);
+        d.corners = CorrectCorners(fit.corners, 0.0, options_.edge_outward_px);
+        d.corner_occluded = fit.occluded;
       } else {
         d.corners = CorrectCorners(raw, options_.pixel_offset_px,
                                    options_.edge_outward_px);

@@ -33,8 +33,36 @@ struct TagDetection {
   std::array<Eigen::Vector2d, 4> corners;
   double decision_margin = 0;  // libapriltag's decoding margin (higher: surer)
   int hamming = 0;             // bits corrected
+  // Corner k is hidden: the white margin beside it is covered (a hand, the
+  // pen, the image's border) and its two edges could not place it, so its
+  // position is libapriltag's outline of what is visible, not the tag's
+  // corner (FitTagEdges). Poses leave such corners out.
+  std::array<bool, 4> corner_occluded{false, false, false, false};
   // Mean edge length, pixels.
   double SizePx() const;
+};
+
+// What the edge fit may trust (FitTagEdges).
+struct EdgeFitLimits {
+  // A fitted corner further than this from libapriltag's is not trusted.
+  double max_shift_px = 1.5;
+  // A profile whose white end is below this share of the tag's white (the
+  // upper quartile of every profile's white end) is not on the white
+  // margin: a hand, the pen or its shadow covers it. It is left out of the
+  // line fit. On synth's benchmark preset the margin beside a tank tag's
+  // corner reads 0.94-1.0 of the tag's white, a hand over it 0.67-0.84;
+  // a pen face's margin, 1.1 cells wide and foreshortened on a turned
+  // face, can read lower where the profile's white end reaches the cube's
+  // edge: at 0.8 and above such profiles were dropped and the static pen's
+  // jitter doubled (docs/tracking.md, "Occluded corners").
+  double margin_share = 0.75;
+  // A corner with covered profiles beside it is where libapriltag's outline
+  // follows the occluder, not the tag (2-5 px off on the benchmark): the
+  // intersection of its edges' lines, fitted on the uncovered profiles, may
+  // move it up to this many cells.
+  double max_occluded_shift_cells = 2.4;
+
+  bool IsValid(std::string* error) const;
 };
 
 struct TagDetectorOptions {
@@ -76,8 +104,8 @@ struct TagDetectorOptions {
   // border's level under blur); off, or outside that range: each
   // profile's dark end.
   bool edge_fit_border_black = true;
-  // A fitted corner further than this from libapriltag's is not trusted.
-  double edge_fit_max_shift_px = 1.5;
+  // The edge fit's limits (EdgeFitLimits).
+  EdgeFitLimits edge_fit_limits;
   // How the image's 8-bit values encode light (the camera file's
   // `transfer`). Blur mixes light, not encoded values: a blurred edge of an
   // sRGB-encoded image crosses its encoded mid level on the dark side,
@@ -128,10 +156,19 @@ class TagDetector {
 // and the white margin; with the tag's `bitmap` (its cells as decoded, TL
 // corner first) the border's black is read only where the cell inside the
 // border is black (TagDetectorOptions::edge_fit_border_black).
+// Profiles whose white end is darker than the tag's margin
+// (limits.margin_share) or that leave the image are left out; a corner next
+// to them may move further (limits.max_occluded_shift_cells), and is
+// reported hidden when its edges cannot place it.
 // Corners whose edges cannot be fitted keep their input value.
-std::array<Eigen::Vector2d, 4> FitTagEdges(
-    const cv::Mat& gray, const std::array<Eigen::Vector2d, 4>& corners,
-    double cell_px, double max_shift_px, const TagBitmap* bitmap = nullptr);
+struct EdgeFit {
+  std::array<Eigen::Vector2d, 4> corners;
+  std::array<bool, 4> occluded{false, false, false, false};
+};
+EdgeFit FitTagEdges(const cv::Mat& gray,
+                    const std::array<Eigen::Vector2d, 4>& corners,
+                    double cell_px, const EdgeFitLimits& limits,
+                    const TagBitmap* bitmap = nullptr);
 
 // A cv::LUT table (1 x 256, CV_8U) from 8-bit values of `transfer` to 8-bit
 // values linear in light (identity for kLinear).

@@ -149,6 +149,39 @@ TEST(ObjectPoseTest, RobustLossDiscountsAnOutlierTag) {
   EXPECT_TRUE(PoseNear(robust.cam_from_object, truth, 0.1, 0.001));
 }
 
+// A pen face whose corner lies under a finger: the detector's outline
+// follows the finger there (TagDetection::corner_occluded). Left out, the
+// three other corners still fix the pose; used, it pulls the pose away.
+TEST(ObjectPoseTest, HiddenCornersAreLeftOut) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  const Pose truth = PenView(BoardView());
+  std::mt19937 rng(5);
+  auto detections =
+      testing::ProjectDetections(camera, rig.pen->faces, truth, 0.0, &rng);
+  ASSERT_FALSE(detections.empty());
+  detections.resize(1);  // a single face
+  detections[0].corners[2] += Eigen::Vector2d(2.0, 1.5);
+  ObjectPose used, left_out;
+  ASSERT_TRUE(EstimateObjectPose(
+      {}, camera, MatchObservations(camera, rig.pen->faces, detections), {},
+      &used));
+  detections[0].corner_occluded[2] = true;
+  const auto obs = MatchObservations(camera, rig.pen->faces, detections);
+  ASSERT_TRUE(obs[0].occluded[2]);
+  ASSERT_TRUE(EstimateObjectPose({}, camera, obs, {}, &left_out));
+  EXPECT_EQ(left_out.num_corners, 3);
+  EXPECT_LT(left_out.rmse_px, 1e-6);
+  EXPECT_TRUE(PoseNear(left_out.cam_from_object, truth, 0.01, 1e-5));
+  EXPECT_FALSE(PoseNear(used.cam_from_object, truth, 0.5, 0.001));
+
+  // With fewer than three corners left every corner is used again: two
+  // corners cannot fix a pose.
+  detections[0].corner_occluded = {true, true, true, false};
+  const auto few = MatchObservations(camera, rig.pen->faces, detections);
+  for (int k = 0; k < 4; ++k) EXPECT_FALSE(few[0].occluded[k]);
+}
+
 TEST(ObjectPoseTest, RefineConvergesFromAPerturbedStart) {
   const Rig rig = DefaultRig();
   const Camera camera = DistortedCamera();

@@ -232,13 +232,13 @@ TEST(TagDetectorTest, BorderBlackNeedsTheTagsCellsAndSmallCells) {
       ((truth[1] - truth[0]).norm() + (truth[2] - truth[1]).norm() +
        (truth[3] - truth[2]).norm() + (truth[0] - truth[3]).norm()) /
       family->width_at_border();
-  const auto plain = FitTagEdges(image, truth, cell, 1.5);
+  const auto plain = FitTagEdges(image, truth, cell, {}).corners;
   std::optional<TagBitmap> white = MakeTagBitmap(*family, 5);
   ASSERT_TRUE(white);
   for (auto& c : white->cells) c = 255;
-  const auto same = FitTagEdges(image, truth, cell, 1.5, &*white);
+  const auto same = FitTagEdges(image, truth, cell, {}, &*white).corners;
   const std::optional<TagBitmap> bitmap = MakeTagBitmap(*family, 5);
-  const auto fitted = FitTagEdges(image, truth, cell, 1.5, &*bitmap);
+  const auto fitted = FitTagEdges(image, truth, cell, {}, &*bitmap).corners;
   double moved = 0;
   for (int k = 0; k < 4; ++k) {
     EXPECT_EQ(same[k], plain[k]);
@@ -254,10 +254,117 @@ TEST(TagDetectorTest, BorderBlackNeedsTheTagsCellsAndSmallCells) {
   const double large_cell =
       (large_truth[1] - large_truth[0]).norm() / family->width_at_border();
   ASSERT_GT(large_cell, 7.5);
-  const auto large_plain = FitTagEdges(near, large_truth, large_cell, 1.5);
+  const auto large_plain =
+      FitTagEdges(near, large_truth, large_cell, {}).corners;
   const auto large_fitted =
-      FitTagEdges(near, large_truth, large_cell, 1.5, &*bitmap);
+      FitTagEdges(near, large_truth, large_cell, {}, &*bitmap).corners;
   for (int k = 0; k < 4; ++k) EXPECT_EQ(large_fitted[k], large_plain[k]);
+}
+
+// The largest distance of a detected corner from the truth among corners
+// the detector did not report hidden, and how many it reported hidden.
+struct CornerCheck {
+  double worst_trusted_px = 0;
+  int hidden = 0;
+};
+CornerCheck CheckCorners(const TagDetection& d,
+                         const std::array<Eigen::Vector2d, 4>& truth) {
+  CornerCheck c;
+  for (int k = 0; k < 4; ++k) {
+    if (d.corner_occluded[k]) {
+      ++c.hidden;
+    } else {
+      c.worst_trusted_px =
+          std::max(c.worst_trusted_px, (d.corners[k] - truth[k]).norm());
+    }
+  }
+  return c;
+}
+
+// A tag running off the bottom of the frame: libapriltag outlines what is
+// in the image, so its two lower corners sit on the frame's last rows. The
+// edge fit cannot read profiles beyond the image; those corners are
+// reported hidden (or placed by the lines, when those can be fitted).
+TEST(TagDetectorTest, CornersBeyondTheImagesBorderAreReportedHidden) {
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  int hidden = 0, detected = 0;
+  for (double y : {0.150, 0.153, 0.156}) {
+    const std::vector<PlacedTag> tags = {
+        {4, 0.04, TagPose(0.0, y, 0.4, 0.2, -0.1, 0.1)}};
+    cv::Mat image = RenderTags(camera, *family, tags, 6, 200);
+    cv::GaussianBlur(image, image, cv::Size(), 0.8);
+    const auto truth = TrueCorners(camera, tags[0]);
+    TagDetectorOptions options;
+    options.quad_decimate = 1;
+    TagDetector detector(options);
+    for (const TagDetection& d : detector.Detect(image)) {
+      ++detected;
+      const CornerCheck c = CheckCorners(d, truth);
+      std::printf(
+          "tag off the border (y %.3f m, lowest corner at %.1f px): "
+          "%d hidden, worst trusted corner %.3f px\n",
+          y, std::max(truth[2].y(), truth[3].y()), c.hidden,
+          c.worst_trusted_px);
+      EXPECT_LT(c.worst_trusted_px, 0.3);
+      hidden += c.hidden;
+    }
+  }
+  EXPECT_GT(detected, 0);
+  EXPECT_GT(hidden, 0);
+}
+
+// A finger over a tag's corner, as bright as 0.65 of the paper: along the
+// covered part of the two edges the border meets the finger, not the
+// margin, and libapriltag's outline follows the finger. The edge fit leaves
+// those profiles out and places the corner by the uncovered rest of its
+// edges, or reports it hidden; without the margin test it is pulled off.
+TEST(TagDetectorTest, AFingerOverACornerIsSeenPastOrReportedHidden) {
+  const Camera camera = TestCamera();
+  auto family = TagFamily::Create("tag36h11");
+  double worst_with = 0, worst_without = 0;
+  for (int corner = 0; corner < 4; ++corner) {
+    const std::vector<PlacedTag> tags = {
+        {9, 0.03, TagPose(0.01, -0.01, 0.45, 0.3, 0.2, 0.4)}};
+    cv::Mat image = RenderTags(camera, *family, tags);
+    const auto truth = TrueCorners(camera, tags[0]);
+    const double cell = (truth[1] - truth[0]).norm() / 8;
+    // A finger along the edge that ends at the corner: it covers the
+    // margin there and a third of a cell of the border, on the edge's half
+    // next to the corner, and reaches past the corner.
+    const Eigen::Vector2d a = truth[(corner + 3) % 4], b = truth[corner];
+    const Eigen::Vector2d along = (b - a).normalized();
+    Eigen::Vector2d out(along.y(), -along.x());
+    if (out.dot(b - 0.5 * (truth[0] + truth[2])) < 0) out = -out;
+    const Eigen::Vector2d from = 0.5 * (a + b) - 0.33 * cell * out;
+    const Eigen::Vector2d to = b + 2.0 * cell * along + 2.5 * cell * out;
+    const Eigen::Vector2d quad[4] = {from,
+                                     from + (to - from).dot(along) * along, to,
+                                     from + (to - from).dot(out) * out};
+    std::vector<cv::Point> poly;
+    for (const auto& q : quad)
+      poly.emplace_back(static_cast<int>(std::lround(q.x() * 16)),
+                        static_cast<int>(std::lround(q.y() * 16)));
+    cv::fillConvexPoly(image, poly, cv::Scalar(150), cv::LINE_AA, 4);
+    cv::GaussianBlur(image, image, cv::Size(), 0.7);
+    for (bool margin_test : {true, false}) {
+      TagDetectorOptions options;
+      options.quad_decimate = 1;
+      if (!margin_test) options.edge_fit_limits.margin_share = 0;
+      TagDetector detector(options);
+      const std::vector<TagDetection> found = detector.Detect(image);
+      ASSERT_EQ(found.size(), 1u);
+      const CornerCheck c = CheckCorners(found[0], truth);
+      std::printf(
+          "finger over corner %d, margin test %s: %d hidden, worst "
+          "trusted corner %.3f px\n",
+          corner, margin_test ? "on" : "off", c.hidden, c.worst_trusted_px);
+      double& worst = margin_test ? worst_with : worst_without;
+      worst = std::max(worst, c.worst_trusted_px);
+    }
+  }
+  EXPECT_LT(worst_with, 0.3);
+  EXPECT_GT(worst_without, 0.5);
 }
 
 }  // namespace

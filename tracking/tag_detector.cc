@@ -45,6 +45,7 @@ bool TagDetectorOptions::IsValid(std::string* error) const {
     return fail("min_decision_margin must be >= 0");
   if (!(std::abs(pixel_offset_px) <= 2.0 && std::abs(edge_outward_px) <= 2.0))
     return fail("corner corrections must be within 2 px");
+  if (lens && !lens->IsValid(error)) return false;
   return edge_fit_limits.IsValid(error);
 }
 
@@ -148,6 +149,13 @@ bool SampleProfile(const cv::Mat& g, const Eigen::Vector2d& centre,
     if (!SampleBilinear(g, q.x(), q.y(), &f->v[j])) return false;
   }
   return true;
+}
+
+Eigen::Vector2d ToIdeal(const LensPixels* lens, const Eigen::Vector2d& pixel) {
+  return lens ? lens->ToIdeal(pixel) : pixel;
+}
+Eigen::Vector2d ToImage(const LensPixels* lens, const Eigen::Vector2d& ideal) {
+  return lens ? lens->ToImage(ideal) : ideal;
 }
 
 // The share of an edge its profiles span.
@@ -280,7 +288,7 @@ std::optional<double> BorderBlackRatio(
     const std::array<Eigen::Vector2d, 4>& corners,
     const std::array<Eigen::Vector2d, 4>& normals,
     const std::array<Line, 4>& lines, const std::array<bool, 4>& ok,
-    double half_width) {
+    double half_width, const LensPixels* lens) {
   const int w = bitmap.width_at_border;
   const double step = 2 * half_width / kSteps;
   // Per black-backed cell, the dark and white ends summed over three
@@ -299,7 +307,8 @@ std::optional<double> BorderBlackRatio(
       bool good = true;
       for (double f : {0.3, 0.5, 0.7}) {
         const Eigen::Vector2d guess = a + (c + f) / w * (b - a);
-        const Eigen::Vector2d q = lines[k].Project(guess);
+        const Eigen::Vector2d q =
+            ToImage(lens, lines[k].Project(ToIdeal(lens, guess)));
         double dark = 0, bright = 0;
         good = good &&
                SamplePair(gray, q, n, -half_width, -half_width + step, &dark) &&
@@ -345,10 +354,43 @@ cv::Mat DecodeToLinearLut(geometry::Transfer transfer) {
   return lut;
 }
 
+LensPixels::LensPixels(const geometry::CameraModel& lens) : lens_(lens) {
+  cols_ = (lens.width + 2 * kMarginPx) / kStepPx + 2;
+  rows_ = (lens.height + 2 * kMarginPx) / kStepPx + 2;
+  table_.resize(static_cast<size_t>(cols_) * rows_);
+  for (int r = 0; r < rows_; ++r)
+    for (int c = 0; c < cols_; ++c)
+      table_[r * cols_ + c] = ToIdealExact(
+          Eigen::Vector2d(c * kStepPx - kMarginPx, r * kStepPx - kMarginPx));
+}
+
+Eigen::Vector2d LensPixels::ToIdealExact(const Eigen::Vector2d& pixel) const {
+  const Eigen::Vector2d n = lens_.UndistortToNormalized(pixel);
+  return {lens_.fx * n.x() + lens_.cx, lens_.fy * n.y() + lens_.cy};
+}
+
+Eigen::Vector2d LensPixels::ToIdeal(const Eigen::Vector2d& pixel) const {
+  const double u = (pixel.x() + kMarginPx) / kStepPx;
+  const double v = (pixel.y() + kMarginPx) / kStepPx;
+  const int c = static_cast<int>(std::floor(u)),
+            r = static_cast<int>(std::floor(v));
+  if (!(c >= 0 && r >= 0 && c + 1 < cols_ && r + 1 < rows_))
+    return ToIdealExact(pixel);
+  const double fu = u - c, fv = v - r;
+  const Eigen::Vector2d* t = &table_[r * cols_ + c];
+  return (1 - fv) * ((1 - fu) * t[0] + fu * t[1]) +
+         fv * ((1 - fu) * t[cols_] + fu * t[cols_ + 1]);
+}
+
+Eigen::Vector2d LensPixels::ToImage(const Eigen::Vector2d& ideal) const {
+  return lens_.Project(Eigen::Vector3d((ideal.x() - lens_.cx) / lens_.fx,
+                                       (ideal.y() - lens_.cy) / lens_.fy, 1.0));
+}
+
 EdgeFit FitTagEdges(const cv::Mat& gray,
                     const std::array<Eigen::Vector2d, 4>& corners,
                     double cell_px, const EdgeFitLimits& limits,
-                    const TagBitmap* bitmap) {
+                    const TagBitmap* bitmap, const LensPixels* lens) {
   EdgeFit fit;
   fit.corners = corners;
   const Eigen::Vector2d centre =
@@ -442,7 +484,7 @@ EdgeFit FitTagEdges(const cv::Mat& gray,
         double r = 0;
         if (f.Bright() - dark >= 10 &&
             Crossing(f, 0.5 * (dark + f.Bright()), &r))
-          points.push_back(f.centre + r * normals[k]);
+          points.push_back(ToIdeal(lens, f.centre + r * normals[k]));
       }
       ok[k] = FitLine(std::move(points), &lines[k]);
     }
@@ -467,14 +509,15 @@ EdgeFit FitTagEdges(const cv::Mat& gray,
   // one round to three).
   for (int round = 0; bitmap && weight > 0 && round < 3; ++round) {
     const std::optional<double> black_ratio = BorderBlackRatio(
-        gray, *bitmap, corners, normals, lines, ok, half_width);
+        gray, *bitmap, corners, normals, lines, ok, half_width, lens);
     if (!black_ratio) break;
     for (int k = 0; k < 4; ++k) {
       if (!ok[k]) continue;
       std::vector<EdgeProfile> moved;
       for (const EdgeProfile& f : profiles[k]) {
         EdgeProfile m;
-        const Eigen::Vector2d on_line = lines[k].Project(f.centre);
+        const Eigen::Vector2d on_line =
+            ToImage(lens, lines[k].Project(ToIdeal(lens, f.centre)));
         m.t = f.t;
         if (SampleProfile(gray, on_line, normals[k], half_width, &m))
           moved.push_back(m);
@@ -507,7 +550,8 @@ EdgeFit FitTagEdges(const cv::Mat& gray,
     if (std::abs(m.determinant()) < 1e-3) continue;
     const Eigen::Vector2d su =
         m.inverse() * (lines[k].point - lines[prev].point);
-    const Eigen::Vector2d c = lines[prev].point + su(0) * lines[prev].dir;
+    const Eigen::Vector2d c =
+        ToImage(lens, lines[prev].point + su(0) * lines[prev].dir);
     // Next to an occluder the lines are fitted on what is left of the two
     // edges and extrapolated to the corner: only from a fifth of each edge
     // or more (on less, a profile's noise tilts the line by more than the
@@ -534,6 +578,7 @@ struct TagDetector::Impl {
   cv::Mat decode_lut;  // 8-bit value -> linear 8-bit; empty when linear
   cv::Mat linear;      // the decoded frame
   std::unordered_map<int, TagBitmap> bitmaps;  // by id, as detected
+  std::optional<LensPixels> lens;  // a distorting lens (options.lens)
 
   ~Impl() {
     if (detector) apriltag_detector_destroy(detector);
@@ -548,6 +593,8 @@ TagDetector::TagDetector(const TagDetectorOptions& options)
   impl_->family = TagFamily::Create(options.family);
   if (options.transfer != geometry::Transfer::kLinear)
     impl_->decode_lut = DecodeToLinearLut(options.transfer);
+  if (options.lens && options.lens->HasDistortion())
+    impl_->lens.emplace(*options.lens);
   impl_->detector = apriltag_detector_create();
   apriltag_detector_add_family_bits(impl_->detector, impl_->family->get(),
                                     std::max(options.max_hamming, 1));
@@ -631,8 +678,9 @@ std::vector<TagDetection> TagDetector::Detect(
           }
           if (it != impl_->bitmaps.end()) bitmap = &it->second;
         }
-        const EdgeFit fit = FitTagEdges(*gray, shifted, cell_px,
-                                        options_.edge_fit_limits, bitmap);
+        const EdgeFit fit =
+            FitTagEdges(*gray, shifted, cell_px, options_.edge_fit_limits,
+                        bitmap, impl_->lens ? &*impl_->lens : nullptr);
         d.corners = CorrectCorners(fit.corners, 0.0, options_.edge_outward_px);
         d.corner_occluded = fit.occluded;
       } else {

@@ -24,10 +24,15 @@ TrackerOptions WithRigFamily(TrackerOptions options, const Rig& rig) {
   return options;
 }
 
-const TagDetectorOptions& ValidDetectorOptions(const TrackerOptions& options) {
+// The detector's options, its lens the camera's unless the options name
+// one: the edge fit's lines are straight in the lens's undistorted pixels.
+TagDetectorOptions ValidDetectorOptions(const TrackerOptions& options,
+                                        const Camera& camera) {
   std::string error;
   RIPPLE_CHECK(options.IsValid(&error), "Tracker: invalid options: " + error);
-  return options.detector;
+  TagDetectorOptions detector = options.detector;
+  if (!detector.lens) detector.lens = camera;
+  return detector;
 }
 
 }  // namespace
@@ -128,7 +133,7 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
     : camera_(camera),
       rig_(rig),
       options_(WithRigFamily(options, rig)),
-      detector_(ValidDetectorOptions(options_)),
+      detector_(ValidDetectorOptions(options_, camera)),
       roi_search_(options_.roi) {
   std::string error;
   RIPPLE_CHECK(camera.IsValid(&error), "Tracker: invalid camera: " + error);

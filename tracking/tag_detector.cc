@@ -431,6 +431,7 @@ EdgeFit FitTagEdges(const cv::Mat& gray,
       std::vector<double> dark;
       for (const EdgeProfile& f : profiles[k])
         if (f.Bright() < least_white) dark.push_back(f.t);
+      if (dark.empty()) continue;
       std::vector<EdgeProfile> kept;
       for (const EdgeProfile& f : profiles[k]) {
         const bool beside = std::any_of(

@@ -73,9 +73,10 @@ bool ParseShadowFilter(const std::string& name, ShadowFilter* filter);
 // Where the water's and the glass's reflections find the surroundings.
 enum class ReflectionMap {
   // The flat fold: the reflected ray's point reflection_distance_m away
-  // projected into a quarter-size blurred copy of the frame (mirrored wrap
-  // beyond its edges), after Ropinski et al.'s virtual reflections; the
-  // glass reflects the uniform sky (the ambient share).
+  // projected into a quarter-size blurred copy of the frame, after Ropinski
+  // et al.'s virtual reflections; a point behind the camera or beyond the
+  // image, which the frame does not show, takes the sky overhead; the glass
+  // reflects the uniform sky (the ambient share).
   kFold,
   // The environment cube map folded from the frame (pass_envmap.h:
   // Ropinski et al.'s cube map as Milsap & Bourland build it), looked up by

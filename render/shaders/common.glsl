@@ -37,6 +37,15 @@ uniform mat3 u_cube_from_tank;   // the camera's rotation at its rebuild
 uniform samplerCube u_sky;       // daylight sky, tank frame, display units
 #endif
 
+// The sky the lighting model assumes, towards r.
+vec3 Overhead(vec3 r) {
+#ifdef SKY
+  return textureLod(u_sky, r, 0.0).rgb;
+#else
+  return vec3(u_ambient);
+#endif
+}
+
 // The environment towards the tank-frame direction r: the cube map, or
 // `fallback` (the caller's fold or uniform sky), where the video shows the
 // surroundings; rays climbing above that see what no camera looking at a
@@ -50,12 +59,7 @@ vec3 Environment(vec3 r, vec3 fallback) {
 #else
   vec3 env = fallback;
 #endif
-#ifdef SKY
-  vec3 overhead = textureLod(u_sky, r, 0.0).rgb;
-#else
-  vec3 overhead = vec3(u_ambient);
-#endif
-  return mix(env, overhead, smoothstep(0.342, 0.866, r.z));
+  return mix(env, Overhead(r), smoothstep(0.342, 0.866, r.z));
 }
 
 // The video's encoded value -> linear light (u_srgb_out: the video's

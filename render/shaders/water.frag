@@ -35,7 +35,7 @@
 in vec3 v_ray;  // the pixel's viewing ray (water_deferred.vert)
 out vec4 o_color;
 uniform sampler2D u_scene;       // undistorted video (+ virtual obstacles)
-uniform sampler2D u_reflection;  // small blurred copy, mirrored wrap
+uniform sampler2D u_reflection;  // small blurred copy of the frame
 uniform sampler2D u_receiver;    // shadow on floor (r) and surface (g)
 uniform vec3 u_sigma;            // absorption per metre (r, g, b)
 uniform vec3 u_scatter;          // colour of deep water (pool look; else 0)
@@ -99,17 +99,23 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
 
 // The reflected environment at surface point p towards r: the fold (the
 // point r * u_env_distance away projected into the blurred frame) or, with
-// ENV_CUBE, the cube map by direction (common.glsl's Environment).
+// ENV_CUBE, the cube map by direction (common.glsl's Environment). The frame
+// shows the fold's point only if it lies in front of the camera and inside
+// the image; elsewhere the ray sees what no frame shows, the sky overhead,
+// faded in over the image's outer FOLD_FADE (a share of its width / height).
+#define FOLD_FADE 0.08
 vec3 EnvLookup(vec3 p, vec3 r) {
 #ifdef ENV_CUBE
   return Environment(r, vec3(0.0));
 #else
   vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
-  c.z = max(abs(c.z), 0.02);  // fold what lies behind the camera forwards
-  vec2 px = u_intr.xy * c.xy / c.z + u_intr.zw;
-  return Environment(
-      r, DecodeVideo(
-             textureLod(u_reflection, (px + 0.5) / u_image_size, 0.0).rgb));
+  vec2 uv = (u_intr.xy * c.xy / max(c.z, 0.02) + u_intr.zw + 0.5) /
+            u_image_size;
+  vec2 inside = min(uv, 1.0 - uv);
+  float seen = step(0.02, c.z) *
+               smoothstep(0.0, FOLD_FADE, min(inside.x, inside.y));
+  vec3 video = DecodeVideo(textureLod(u_reflection, uv, 0.0).rgb);
+  return Environment(r, mix(Overhead(r), video, seen));
 #endif
 }
 

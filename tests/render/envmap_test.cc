@@ -355,6 +355,45 @@ TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
   EXPECT_EQ(rebuilds, 2);  // front, then top (the tilt alone changes nothing)
 }
 
+// What the water's reflection adds at the tank's centre, in linear light per
+// band (r, g, b), over a frame painted in saturated pieces, the sky alone
+// lighting the board (radiance 1); `r` gets the reflected ray there.
+bool ReflectionAddedAtCentre(Context* ctx, ReflectionMap map,
+                             testing::View view, glm::dvec3* added,
+                             glm::dvec3* r) {
+  constexpr int kW = 320, kH = 240;
+  RendererOptions options;
+  options.reflection_map = map;
+  options.optics.ambient_share = 1.0f;
+  const Intrinsics k0 = testing::MakeIntrinsics(kW, kH);
+  std::string error;
+  auto renderer = Renderer::TryCreate(ctx, k0, options, &error);
+  if (renderer == nullptr) {
+    ADD_FAILURE() << error;
+    return false;
+  }
+  testing::TestScene s = PaintedScene(kW, kH, view, options.envmap);
+  SceneInputs& in = s.inputs;
+  in.effects.refraction = false;  // the water shows its reflection only
+  std::vector<std::uint8_t> on(static_cast<size_t>(kW) * kH * 3);
+  std::vector<std::uint8_t> off(on.size());
+  if (!renderer->Render(in) || !renderer->ReadBgr(on.data())) return false;
+  in.effects.reflection = false;
+  if (!renderer->Render(in) || !renderer->ReadBgr(off.data())) return false;
+  const glm::dvec3 centre(0.0, 0.0, in.tank.water_level);
+  const glm::dvec3 eye(glm::inverse(in.cam_from_tank)[3]);
+  *r = glm::reflect(glm::normalize(centre - eye), glm::dvec3(0.0, 0.0, 1.0));
+  const glm::dvec4 p = in.cam_from_tank * glm::dvec4(centre, 1.0);
+  const int u = static_cast<int>(std::lround(s.k.fx * p.x / p.z + s.k.cx));
+  const int v = static_cast<int>(std::lround(s.k.fy * p.y / p.z + s.k.cy));
+  for (int ch = 0; ch < 3; ++ch) {
+    const size_t i = 3 * (static_cast<size_t>(v) * kW + u) + ch;
+    (*added)[2 - ch] =
+        SrgbToLinear(on[i] / 255.0) - SrgbToLinear(off[i] / 255.0);
+  }
+  return true;
+}
+
 // No camera looking at a table sees what is overhead: reflected rays that
 // climb steeply take the sky the lighting assumes (uniform, of radiance the
 // ambient share), whatever the frame shows, with the fold and the cube map
@@ -365,45 +404,33 @@ TEST(EnvMapLookupTest, SteepReflectionsSeeTheSkyOverhead) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   for (ReflectionMap map : {ReflectionMap::kFold, ReflectionMap::kCubeMap}) {
     SCOPED_TRACE(static_cast<int>(map));
-    RendererOptions options;
-    options.reflection_map = map;
-    options.optics.ambient_share = 1.0f;  // the sky alone lights the board
-    const Intrinsics k0 = testing::MakeIntrinsics(kW, kH);
-    std::string error;
-    auto renderer = Renderer::TryCreate(ctx.get(), k0, options, &error);
-    ASSERT_NE(renderer, nullptr) << error;
-    testing::TestScene s =
-        PaintedScene(kW, kH, testing::View::kTop, options.envmap);
-    SceneInputs& in = s.inputs;
-    in.effects.refraction = false;  // the water shows its reflection only
-    ASSERT_TRUE(renderer->Render(in));
-    std::vector<std::uint8_t> on(static_cast<size_t>(kW) * kH * 3);
-    ASSERT_TRUE(renderer->ReadBgr(on.data()));
-    in.effects.reflection = false;
-    ASSERT_TRUE(renderer->Render(in));
-    std::vector<std::uint8_t> off(on.size());
-    ASSERT_TRUE(renderer->ReadBgr(off.data()));
-    // The reflected ray at the centre climbs steeply.
-    const glm::dvec3 centre(0.0, 0.0, in.tank.water_level);
-    const glm::dvec3 eye(glm::inverse(in.cam_from_tank)[3]);
-    const glm::dvec3 r =
-        glm::reflect(glm::normalize(centre - eye), glm::dvec3(0.0, 0.0, 1.0));
-    ASSERT_GT(r.z, 0.9);
-    const glm::dvec4 p = in.cam_from_tank * glm::dvec4(centre, 1.0);
-    const int u = static_cast<int>(std::lround(s.k.fx * p.x / p.z + s.k.cx));
-    const int v = static_cast<int>(std::lround(s.k.fy * p.y / p.z + s.k.cy));
-    // What the reflection adds, in linear light, per band.
-    glm::dvec3 added(0.0);
-    for (int ch = 0; ch < 3; ++ch) {
-      const size_t i = 3 * (static_cast<size_t>(v) * kW + u) + ch;
-      added[2 - ch] =
-          SrgbToLinear(on[i] / 255.0) - SrgbToLinear(off[i] / 255.0);
-    }
+    glm::dvec3 added, r;
+    ASSERT_TRUE(ReflectionAddedAtCentre(ctx.get(), map, testing::View::kTop,
+                                        &added, &r));
+    ASSERT_GT(r.z, 0.9);  // the reflected ray at the centre climbs steeply
     // Fresnel at normal incidence for water: ((n - 1) / (n + 1))^2 = 0.0204,
     // times the sky's radiance 1; the 8-bit levels near the floor's colour
     // are about 0.004 apart in linear light.
     for (int c = 0; c < 3; ++c) EXPECT_NEAR(added[c], 0.0204, 0.006) << c;
   }
+}
+
+// The fold reads the frame only where the camera looks: a reflected ray
+// whose point (reflection_distance_m away) lies outside the image sees what
+// no frame shows, the sky, not the image's border. From the front (the
+// reflected ray 42 degrees up, its point 42 degrees above the optical axis,
+// the image's half height 23), flat water reflects grey: R(theta) a, with
+// no trace of the painted frame.
+TEST(EnvMapLookupTest, TheFoldReadsTheFrameOnlyWhereTheCameraLooks) {
+  constexpr int kW = 320, kH = 240;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  glm::dvec3 added, r;
+  ASSERT_TRUE(ReflectionAddedAtCentre(ctx.get(), ReflectionMap::kFold,
+                                      testing::View::kFront, &added, &r));
+  ASSERT_LT(r.z, 0.8);  // the elevation blend alone would keep the frame
+  const double fresnel = FresnelReflectance(r.z, 1.0, WaterOptics{}.ior);
+  ASSERT_GT(fresnel, 0.025);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(added[c], fresnel, 0.004) << c;
 }
 
 }  // namespace

@@ -76,11 +76,12 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-overlap", args->no_overlap,
                 "Track each frame before its render instead of beside the "
                 "last frame's (lower latency, lower frame rate)");
-  sub->add_option("--water-columns", args->water_columns,
-                  "Shade the water on a grid of this many columns and "
-                  "upsample it inside the water (its edges stay sharp): auto "
-                  "(80% of the frame's columns, at most 640), full (every "
-                  "pixel) or N >= 64")
+  sub->add_option(
+         "--water-columns", args->water_columns,
+         "Shade the water on a grid of this many columns and "
+         "upsample it inside the water (its edges stay sharp): auto "
+         "(every pixel up to 640 columns, a grid of 640 above), full (every "
+         "pixel) or N >= 64")
       ->capture_default_str()
       ->check(WaterColumnsValidator());
   sub->add_flag("--full-frame", args->full_frame,

@@ -24,9 +24,7 @@ glm::ivec4 CoarseGrid::RectOut(const glm::ivec4& r, int pad) const {
 CoarseGrid CoarseGridFor(int width, int height, int max_columns) {
   CoarseGrid g;
   if (max_columns < 0) {
-    max_columns =
-        std::min(kAutoMaxColumns,
-                 static_cast<int>(std::lround(kAutoColumnShare * width)));
+    max_columns = kAutoMaxColumns;
   }
   if (max_columns <= 0 || width <= max_columns || height <= 0) return g;
   g.width = max_columns;

@@ -29,9 +29,8 @@ struct CoarseGrid {
   glm::ivec4 RectOut(const glm::ivec4& r, int pad) const;
 };
 
-// The automatic choice (RendererOptions::water_shading_columns < 0): 80% of
-// the output's columns, at most 640.
-constexpr double kAutoColumnShare = 0.8;
+// The automatic choice (RendererOptions::water_shading_columns < 0): the
+// output's own columns up to 640, a grid of 640 columns above.
 constexpr int kAutoMaxColumns = 640;
 
 // The grid for an output of `width` x `height` pixels shaded on at most

@@ -180,14 +180,13 @@ struct RendererOptions {
   // video stay sharp, its interior is interpolated. On llvmpipe the water's
   // shading is about half of a frame's work and grows with the water's
   // pixels (three to nine times 640x480's at a webcam's 1280x720 and
-  // 1920x1080). -1 (kWaterColumnsAuto, the default): 80% of the output's
-  // columns, at most 640. At 640x480 that is 512 columns: 3% less work, and
-  // FLIP against the physically based reference lower on every scene
-  // (the reference integrates each pixel's area, the shader point-samples
-  // it; the interpolation filters its aliasing); above, the water of larger
-  // outputs at about 640x480's cost (docs/render.md, "Webcam resolutions:
-  // the water on a coarse grid"). 0: always the output's pixels; N >= 64:
-  // at most N columns.
+  // 1920x1080). -1 (kWaterColumnsAuto, the default): the output's pixels
+  // up to 640 columns (at 640x480 a grid of fewer columns saves 4% of the
+  // frame's work and moves the water away from the physically based
+  // reference), a grid of 640 columns above: the water of larger outputs at
+  // about 640x480's cost (docs/render.md, "Webcam resolutions: the water on
+  // a coarse grid"). 0: always the output's pixels; N >= 64: at most N
+  // columns.
   int water_shading_columns = kWaterColumnsAuto;
   // Outdoors (--sun): the daylight sky (render/sun.h) is what reflected rays
   // climbing above the surroundings the video shows see: the reflection

@@ -59,11 +59,12 @@ TEST(CoarseGridTest, KeepsTheAspectAndIsOffUpToItsColumns) {
   const CoarseGrid fhd = CoarseGridFor(1920, 1080, 640);
   EXPECT_EQ(fhd.width, 640);
   EXPECT_EQ(fhd.height, 360);
-  // Automatic: 80% of the columns, at most 640.
-  const CoarseGrid vga = CoarseGridFor(640, 480, kWaterColumnsAuto);
-  EXPECT_EQ(vga.width, 512);
-  EXPECT_EQ(vga.height, 384);
-  EXPECT_EQ(CoarseGridFor(320, 240, kWaterColumnsAuto).width, 256);
+  // Automatic: the output's pixels up to 640 columns, 640 columns above.
+  EXPECT_FALSE(CoarseGridFor(640, 480, kWaterColumnsAuto).active());
+  EXPECT_FALSE(CoarseGridFor(320, 240, kWaterColumnsAuto).active());
+  const CoarseGrid svga = CoarseGridFor(800, 600, kWaterColumnsAuto);
+  EXPECT_EQ(svga.width, 640);
+  EXPECT_EQ(svga.height, 480);
   EXPECT_EQ(CoarseGridFor(1280, 720, kWaterColumnsAuto).width, 640);
   EXPECT_EQ(CoarseGridFor(1920, 1080, kWaterColumnsAuto).height, 360);
   // An odd size: the aspect to the nearest row, each axis its own scale.

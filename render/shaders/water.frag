@@ -97,6 +97,32 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
 
 #endif
 
+// A ray that reaches the surface through a wall facing the camera, above
+// the water, crosses the glass slab (u_glass_d thick, outside the inner
+// size): it leaves parallel to itself, shifted sideways. The shift of its
+// origin, summed over the x and the y wall on the camera's side (zero for a
+// ray that passes over a wall's top or meets its inner face under the
+// water, where walls.frag draws the glass).
+vec3 GlassWallShift(vec3 c, vec3 v) {
+  vec3 shift = vec3(0.0);
+  for (int axis = 0; axis < 2; ++axis) {
+    float half_in = 0.5 * u_tank[axis];
+    float side = sign(c[axis]);
+    float toward = max(-side * v[axis], 1e-6);  // the ray's speed inwards
+    float t_out = (side * c[axis] - half_in - u_glass_d) / toward;
+    float t_in = (side * c[axis] - half_in) / toward;
+    bool crosses = side * c[axis] > half_in + u_glass_d &&
+                   c.z + t_out * v.z < u_tank.z &&
+                   c.z + t_in * v.z > u_tank.w;
+    vec3 n = vec3(0.0);
+    n[axis] = side;  // the wall's outward normal
+    vec3 g = refract(v, n, 1.0 / u_glass_ior);
+    vec3 d = g * (u_glass_d / max(-dot(g, n), 1e-3)) - v * (u_glass_d / toward);
+    shift += crosses ? d : vec3(0.0);
+  }
+  return shift;
+}
+
 // The reflected environment at surface point p towards r: the fold (the
 // point r * u_env_distance away projected into the blurred frame) or, with
 // ENV_CUBE, the cube map by direction (common.glsl's Environment). The frame
@@ -127,7 +153,7 @@ void main() {
   // two fixed-point steps onto the surface z = level + h(x, y). Height and
   // slope are precomputed per cell: (h, dh/dx, dh/dy).
   vec3 v = normalize(v_ray);
-  vec3 c = u_cam_in_tank;
+  vec3 c = u_cam_in_tank + GlassWallShift(u_cam_in_tank, v);
   float dz = min(v.z, -1e-4);
   float s = (u_tank.w - c.z) / dz;
   vec3 hs = HeightAt(c.xy + s * v.xy);

@@ -889,6 +889,108 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(far_red[c], far_green[c], 1) << c;
 }
 
+// Seen through a wall facing the camera, above the water, the surface and
+// the floor behind it are shifted as a glass slab shifts them: the ray
+// leaves the slab parallel to itself, displaced. A dark line painted on the
+// floor near the front wall (flat water, 640x480) shows at the row that a
+// ray traced through the slab, the surface (Snell) and down to the floor
+// predicts, with the glass 3 mm thick and with it thin, within 0.25 px.
+TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene base = MakeScene(kW6, kH6, View::kFront, false);
+  const TankGeometry& t = base.inputs.tank;
+  const WaterOptics optics;
+  const glm::dmat4 tank_from_cam = glm::inverse(base.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  const int u = static_cast<int>(std::lround(base.k.cx));
+  auto ray_at = [&](double row) {
+    return glm::normalize(glm::dvec3(
+        tank_from_cam * glm::dvec4((u - base.k.cx) / base.k.fx,
+                                   (row - base.k.cy) / base.k.fy, 1.0, 0.0)));
+  };
+  const double y_in = -0.5 * t.size_y;  // the front wall's inner face
+  // The floor's y that the pixel row's ray reaches through a slab of
+  // thickness d; NaN where the ray does not cross the slab above the water.
+  auto floor_y = [&](double row, double d) {
+    const glm::dvec3 v = ray_at(row);
+    const double t_out = (y_in - d - eye.y) / v.y, t_in = (y_in - eye.y) / v.y;
+    if (eye.z + t_out * v.z > t.wall_height ||
+        eye.z + t_in * v.z < t.water_level)
+      return std::nan("");
+    const glm::dvec3 n(0.0, -1.0, 0.0);
+    const glm::dvec3 g = glm::refract(v, n, 1.0 / optics.glass_ior);
+    const glm::dvec3 shift = g * (d / g.y) - v * (d / v.y);
+    const glm::dvec3 o = eye + shift;
+    const glm::dvec3 s = o + v * ((t.water_level - o.z) / v.z);
+    const glm::dvec3 w =
+        glm::refract(v, glm::dvec3(0.0, 0.0, 1.0), 1.0 / optics.ior);
+    return s.y + w.y * (s.z / -w.z);
+  };
+  // The rows whose rays cross the 3 mm slab above the water.
+  std::vector<int> band;
+  for (int row = 0; row < kH6; ++row)
+    if (!std::isnan(floor_y(row, optics.glass_thickness_m)))
+      band.push_back(row);
+  ASSERT_GE(band.size(), 8u);
+  const double row_mid = 0.5 * (band.front() + band.back());
+  const double y_line = floor_y(row_mid, optics.glass_thickness_m);
+  // The row at which slab thickness d shows the line (bisection: lower rows
+  // see the floor nearer the camera, at smaller y).
+  auto predicted_row = [&](double d) {
+    double lo = band.front() - 3, hi = band.back() + 3;
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      const double y = floor_y(mid, d);
+      const bool below = std::isnan(y) ? mid < row_mid : y > y_line;
+      (below ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  auto measured_row = [&](float d) {
+    RendererOptions options;
+    options.optics.glass_thickness_m = d;
+    auto r = Renderer::TryCreate(ctx.get(), base.k, options, nullptr);
+    EXPECT_NE(r, nullptr);
+    if (r == nullptr) return std::nan("");
+    TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+    s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+    for (int y = 0; y < kH6; ++y) {
+      for (int x = 0; x < kW6; ++x) {
+        const glm::dvec3 ray(tank_from_cam * glm::dvec4((x - s.k.cx) / s.k.fx,
+                                                        (y - s.k.cy) / s.k.fy,
+                                                        1.0, 0.0));
+        const double by = ray.z < 0 ? eye.y + ray.y * (eye.z / -ray.z) : 1.0;
+        const std::uint8_t g = std::abs(by - y_line) < 0.001 ? 40 : 225;
+        for (int c = 0; c < 3; ++c) s.video[3 * (y * kW6 + x) + c] = g;
+      }
+    }
+    const cv::Mat out = RenderScene(r.get(), s.inputs);
+    // The paper's level: the band's median (the meniscus line at the
+    // waterline is brighter, the painted line darker).
+    std::vector<int> levels;
+    for (int row : band) levels.push_back(out.at<cv::Vec3b>(row, u)[1]);
+    std::nth_element(levels.begin(), levels.begin() + levels.size() / 2,
+                     levels.end());
+    const double paper = levels[levels.size() / 2];
+    double sum = 0, weight = 0;
+    for (int row : band) {
+      for (int du = -2; du <= 2; ++du) {
+        const double w =
+            std::max(0.0, paper - out.at<cv::Vec3b>(row, u + du)[1]);
+        sum += w * row;
+        weight += w;
+      }
+    }
+    return weight > 0 ? sum / weight : std::nan("");
+  };
+  const double want_thick = predicted_row(optics.glass_thickness_m);
+  const double want_thin = predicted_row(0.0);
+  ASSERT_GT(std::abs(want_thick - want_thin), 0.5);  // the slab's shift
+  EXPECT_NEAR(measured_row(optics.glass_thickness_m), want_thick, 0.25);
+  EXPECT_NEAR(measured_row(0.0f), want_thin, 0.25);
+}
+
 // The tank's shadow on the board around it (pass_board_light.h): over a
 // uniform grey video, board points in front of the tank read the grey times
 // the factor that the board-light model gives there (its light through the

@@ -53,13 +53,15 @@ vec3 Overhead(vec3 r) {
 // the daylight sky, indoors the uniform sky of radiance u_ambient that the
 // ambient term integrates), blended in between 20 and 60 degrees of
 // elevation (sin = 0.342, 0.866).
+float OverheadShare(vec3 r) { return smoothstep(0.342, 0.866, r.z); }
+
 vec3 Environment(vec3 r, vec3 fallback) {
 #ifdef ENV_CUBE
   vec3 env = textureLod(u_env, u_cube_from_tank * r, 0.0).rgb;
 #else
   vec3 env = fallback;
 #endif
-  return mix(env, Overhead(r), smoothstep(0.342, 0.866, r.z));
+  return mix(env, Overhead(r), OverheadShare(r));
 }
 
 // The video's encoded value -> linear light (u_srgb_out: the video's

@@ -141,7 +141,8 @@ vec3 EnvLookup(vec3 p, vec3 r) {
   float seen = step(0.02, c.z) *
                smoothstep(0.0, FOLD_FADE, min(inside.x, inside.y));
   vec3 video = DecodeVideo(textureLod(u_reflection, uv, 0.0).rgb);
-  return Environment(r, mix(Overhead(r), video, seen));
+  vec3 sky = Overhead(r);  // one lookup of the daylight sky, not two
+  return mix(mix(sky, video, seen), sky, OverheadShare(r));
 #endif
 }
 

@@ -379,6 +379,15 @@ TEST(TagDetectorTest, EdgesAreFittedStraightThroughTheLens) {
   // The pinhole render, then each distorted pixel read from where the lens
   // maps it (bilinear, on a 6x6-supersampled render: its own blur is far
   // below the corners' errors measured here).
+  cv::Mat map_x(lens.height, lens.width, CV_32F),
+      map_y(lens.height, lens.width, CV_32F);
+  for (int y = 0; y < lens.height; ++y) {
+    for (int x = 0; x < lens.width; ++x) {
+      const Eigen::Vector2d q = lens.UndistortToNormalized({x, y});
+      map_x.at<float>(y, x) = static_cast<float>(lens.fx * q.x() + lens.cx);
+      map_y.at<float>(y, x) = static_cast<float>(lens.fy * q.y() + lens.cy);
+    }
+  }
   double sq_with = 0, sq_without = 0, out_with = 0, out_without = 0;
   int n = 0;
   for (int i = 0; i < 6; ++i) {
@@ -388,15 +397,6 @@ TEST(TagDetectorTest, EdgesAreFittedStraightThroughTheLens) {
          TagPose(0.17 * std::cos(a), 0.13 * std::sin(a), 0.45, 0.3, -0.2,
                  0.2 * i)}};
     const cv::Mat ideal = RenderTags(pinhole, *family, tags, 6, 200);
-    cv::Mat map_x(lens.height, lens.width, CV_32F),
-        map_y(lens.height, lens.width, CV_32F);
-    for (int y = 0; y < lens.height; ++y) {
-      for (int x = 0; x < lens.width; ++x) {
-        const Eigen::Vector2d q = lens.UndistortToNormalized({x, y});
-        map_x.at<float>(y, x) = static_cast<float>(lens.fx * q.x() + lens.cx);
-        map_y.at<float>(y, x) = static_cast<float>(lens.fy * q.y() + lens.cy);
-      }
-    }
     cv::Mat image;
     cv::remap(ideal, image, map_x, map_y, cv::INTER_LINEAR, cv::BORDER_CONSTANT,
               cv::Scalar(200));

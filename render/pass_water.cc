@@ -23,7 +23,6 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   }
   const Program& p = s->program;
   s->common.Resolve(p);  // leaves p bound
-  glUniform1f(p.Uniform("u_env_distance"), options.reflection_distance_m);
   glUniform1i(p.Uniform("u_floor_return"), kUnitFloorReturn);
 
   glUniform1f(p.Uniform("u_ior"), options.optics.ior);

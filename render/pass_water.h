@@ -32,7 +32,6 @@ class WaterPass {
   struct Options {
     int surface_grid = 8;  // quads per side of the surface mesh
     WaterOptics optics;
-    float reflection_distance_m = 0.3f;
     // Every variant: the reflection from the environment cube map
     // (pass_envmap.h) rather than the fold; the daylight sky over it.
     bool env_cube = false;

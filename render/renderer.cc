@@ -187,13 +187,9 @@ bool Renderer::Impl::Init(std::string* error) {
       o.optics.ior};
   const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
   const bool sky = o.daylight.has_value();
-  const internal::WaterPass::Options water_options{o.surface_grid,
-                                                   o.optics,
-                                                   o.reflection_distance_m,
-                                                   cube,
-                                                   sky,
-                                                   o.water_regions,
-                                                   o.water_shading_columns};
+  const internal::WaterPass::Options water_options{
+      o.surface_grid,         o.optics, cube, sky, o.water_regions,
+      o.water_shading_columns};
   const internal::WallsPass::Options walls_options{o.optics, cube, sky};
   internal::EnvMapPass::Options envmap_options;
   envmap_options.face_size = o.envmap.face_size;

@@ -72,11 +72,11 @@ bool ParseShadowFilter(const std::string& name, ShadowFilter* filter);
 
 // Where the water's and the glass's reflections find the surroundings.
 enum class ReflectionMap {
-  // The flat fold: the reflected ray's point reflection_distance_m away
-  // projected into a quarter-size blurred copy of the frame, after Ropinski
-  // et al.'s virtual reflections; a point behind the camera or beyond the
-  // image, which the frame does not show, takes the sky overhead; the glass
-  // reflects the uniform sky (the ambient share).
+  // The flat fold: the reflected ray's vanishing point (the surroundings
+  // taken as far away) in a quarter-size blurred copy of the frame, after
+  // Ropinski et al.'s virtual reflections; a direction behind the camera or
+  // beyond the image, which the frame does not show, takes the sky overhead;
+  // the glass reflects the uniform sky (the ambient share).
   kFold,
   // The environment cube map folded from the frame (pass_envmap.h:
   // Ropinski et al.'s cube map as Milsap & Bourland build it), looked up by
@@ -149,7 +149,6 @@ struct RendererOptions {
   Transfer video_transfer = Transfer::kSrgb;
   ReflectionMap reflection_map = ReflectionMap::kFold;
   EnvMapOptions envmap;
-  float reflection_distance_m = 0.3f;  // kFold: distance to the reflected scene
   // The mirrored obstacles and pen fade with height above the water, with
   // this e-folding height (Nelson & Kolsch's falloff; pass_mirror.h).
   float reflection_fade_m = 0.1f;

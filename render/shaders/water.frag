@@ -39,7 +39,6 @@ uniform sampler2D u_reflection;  // small blurred copy of the frame
 uniform sampler2D u_receiver;    // shadow on floor (r) and surface (g)
 uniform vec3 u_sigma;            // absorption per metre (r, g, b)
 uniform vec3 u_scatter;          // colour of deep water (pool look; else 0)
-uniform float u_env_distance;    // metres to the virtual reflected scene
 uniform float u_ior;             // water
 uniform float u_glass_ior;       // the walls' glass
 uniform float u_glass_d;         // its thickness outside the inner size, m
@@ -123,18 +122,23 @@ vec3 GlassWallShift(vec3 c, vec3 v) {
   return shift;
 }
 
-// The reflected environment at surface point p towards r: the fold (the
-// point r * u_env_distance away projected into the blurred frame) or, with
-// ENV_CUBE, the cube map by direction (common.glsl's Environment). The frame
-// shows the fold's point only if it lies in front of the camera and inside
-// the image; elsewhere the ray sees what no frame shows, the sky overhead,
-// faded in over the image's outer FOLD_FADE (a share of its width / height).
+// The reflected environment towards r: the fold (r's vanishing point in
+// the blurred frame: the surroundings as seen from far away) or, with
+// ENV_CUBE, the cube map by direction (common.glsl's Environment). A ray
+// reflected upwards never comes down to the table's plane, so what it meets
+// lies above that plane; read at its vanishing point the frame shows what
+// lies along r far away, above the plane's horizon, and never the table
+// near the tank, which a point at a finite distance reads wherever the view
+// is grazing. The frame shows the direction only if it lies in front of the
+// camera and inside the image; elsewhere the ray sees what no frame shows,
+// the sky overhead, faded in over the image's outer FOLD_FADE (a share of
+// its width / height).
 #define FOLD_FADE 0.08
-vec3 EnvLookup(vec3 p, vec3 r) {
+vec3 EnvLookup(vec3 r) {
 #ifdef ENV_CUBE
   return Environment(r, vec3(0.0));
 #else
-  vec3 c = (u_cam_from_tank * vec4(p + r * u_env_distance, 1.0)).xyz;
+  vec3 c = mat3(u_cam_from_tank) * r;
   vec2 uv = (u_intr.xy * c.xy / max(c.z, 0.02) + u_intr.zw + 0.5) /
             u_image_size;
   vec2 inside = min(uv, 1.0 - uv);
@@ -297,7 +301,7 @@ void main() {
   // The environment, and over it the mirrored obstacles and pen
   // (pass_mirror.h, premultiplied), displaced by the surface's slope: a tilt
   // of the normal turns the reflected ray by twice as much.
-  vec3 env = EnvLookup(p, r);
+  vec3 env = EnvLookup(r);
 #ifdef MIRROR
   vec4 mirror = textureLod(
       u_mirror, VideoUv(p + vec3(2.0 * u_mirror_depth * n.xy, 0.0)), 0.0);

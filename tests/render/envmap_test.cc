@@ -263,9 +263,11 @@ TEST_F(EnvMapGlTest, TrapezoidsMapProjectivelyWithoutACrease) {
 // black), without shadows, caustics and walls, the light placed so that no
 // glint falls near the tank's centre.
 testing::TestScene PaintedScene(int w, int h, testing::View view,
-                                const EnvMapOptions& e) {
+                                const EnvMapOptions& e,
+                                const glm::dmat4* cam_from_tank = nullptr) {
   testing::TestScene s = testing::MakeScene(w, h, view, false);
   SceneInputs& in = s.inputs;
+  if (cam_from_tank != nullptr) in.cam_from_tank = *cam_from_tank;
   const glm::dvec4 box =
       EnvMapBox(s.k, in.cam_from_tank, in.tank, e.box_scale, e.box_margin);
   const std::vector<glm::vec4> pieces = PaintPieces(w, h, box);
@@ -358,9 +360,13 @@ TEST(EnvMapLookupTest, ReflectedRayFindsTheExpectedFace) {
 // What the water's reflection adds at the tank's centre, in linear light per
 // band (r, g, b), over a frame painted in saturated pieces, the sky alone
 // lighting the board (radiance 1); `r` gets the reflected ray there.
+// cam_from_tank, if given, replaces the view's pose; video, if given, gets
+// the painted frame (BGR8).
 bool ReflectionAddedAtCentre(Context* ctx, ReflectionMap map,
                              testing::View view, glm::dvec3* added,
-                             glm::dvec3* r) {
+                             glm::dvec3* r,
+                             const glm::dmat4* cam_from_tank = nullptr,
+                             std::vector<std::uint8_t>* video = nullptr) {
   constexpr int kW = 320, kH = 240;
   RendererOptions options;
   options.reflection_map = map;
@@ -372,7 +378,9 @@ bool ReflectionAddedAtCentre(Context* ctx, ReflectionMap map,
     ADD_FAILURE() << error;
     return false;
   }
-  testing::TestScene s = PaintedScene(kW, kH, view, options.envmap);
+  testing::TestScene s =
+      PaintedScene(kW, kH, view, options.envmap, cam_from_tank);
+  if (video != nullptr) *video = s.video;
   SceneInputs& in = s.inputs;
   in.effects.refraction = false;  // the water shows its reflection only
   std::vector<std::uint8_t> on(static_cast<size_t>(kW) * kH * 3);
@@ -416,11 +424,11 @@ TEST(EnvMapLookupTest, SteepReflectionsSeeTheSkyOverhead) {
 }
 
 // The fold reads the frame only where the camera looks: a reflected ray
-// whose point (reflection_distance_m away) lies outside the image sees what
-// no frame shows, the sky, not the image's border. From the front (the
-// reflected ray 42 degrees up, its point 42 degrees above the optical axis,
-// the image's half height 23), flat water reflects grey: R(theta) a, with
-// no trace of the painted frame.
+// whose direction lies outside the image sees what no frame shows, the sky,
+// not the image's border. From the front (the reflected ray 42 degrees up,
+// its vanishing point 76 degrees above the optical axis, the image's half
+// height 23), flat water reflects grey: R(theta) a, with no trace of the
+// painted frame.
 TEST(EnvMapLookupTest, TheFoldReadsTheFrameOnlyWhereTheCameraLooks) {
   constexpr int kW = 320, kH = 240;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
@@ -431,6 +439,71 @@ TEST(EnvMapLookupTest, TheFoldReadsTheFrameOnlyWhereTheCameraLooks) {
   const double fresnel = FresnelReflectance(r.z, 1.0, WaterOptics{}.ior);
   ASSERT_GT(fresnel, 0.025);
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(added[c], fresnel, 0.004) << c;
+}
+
+// A ray reflected upwards never comes down to the table, so the fold reads
+// each direction at its vanishing point (the surroundings far away), not at
+// a point at a finite distance, which a grazing view finds on the table
+// beyond the tank.
+// - Grazing (the camera 17 degrees down, the reflected ray 15 degrees up):
+//   a point 0.3 m along the ray lies 15 degrees above the optical axis,
+//   inside the image, on the painted table; the direction itself lies 32
+//   degrees above the axis, outside the image (half height 23): the water
+//   reflects the sky, R(theta) a.
+// - Almost level (the camera 6 degrees down): the direction lies 12 degrees
+//   above the axis, inside the image, and the water reflects the frame
+//   there, R(theta) times its colour.
+TEST(EnvMapLookupTest, TheFoldReadsEachDirectionAtItsVanishingPoint) {
+  constexpr int kW = 320, kH = 240;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  const double ior = WaterOptics{}.ior;
+  {
+    SCOPED_TRACE("grazing");
+    const glm::dmat4 pose = testing::LookAt({0.0, -0.35, 0.12}, {0, 0, 0.015});
+    glm::dvec3 added, r;
+    ASSERT_TRUE(ReflectionAddedAtCentre(ctx.get(), ReflectionMap::kFold,
+                                        testing::View::kFront, &added, &r,
+                                        &pose));
+    const glm::dvec3 c = glm::dmat3(pose) * r;
+    ASSERT_LT(c.y / c.z, -std::tan(23.5 * M_PI / 180.0));  // above the top
+    const double fresnel = FresnelReflectance(r.z, 1.0, ior);
+    ASSERT_GT(fresnel, 0.1);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(added[ch], fresnel, 0.006) << ch;
+  }
+  {
+    SCOPED_TRACE("level");
+    const glm::dmat4 pose = testing::LookAt({0.0, -0.45, 0.075}, {0, 0, 0.025});
+    glm::dvec3 added, r;
+    std::vector<std::uint8_t> video;
+    ASSERT_TRUE(ReflectionAddedAtCentre(ctx.get(), ReflectionMap::kFold,
+                                        testing::View::kFront, &added, &r,
+                                        &pose, &video));
+    const glm::dvec3 c = glm::dmat3(pose) * r;
+    const Intrinsics k = testing::MakeIntrinsics(kW, kH);
+    const int u = static_cast<int>(std::lround(k.fx * c.x / c.z + k.cx));
+    const int v = static_cast<int>(std::lround(k.fy * c.y / c.z + k.cy));
+    ASSERT_GT(v, kH / 8);  // well inside the image, clear of the fade
+    // The painted frame is one colour 16 px around the vanishing point, so
+    // the blurred copy the fold reads holds that colour there.
+    const size_t at = 3 * (static_cast<size_t>(v) * kW + u);
+    for (int dy = -16; dy <= 16; dy += 4) {
+      for (int dx = -16; dx <= 16; dx += 4) {
+        const size_t i = 3 * (static_cast<size_t>(v + dy) * kW + u + dx);
+        for (int ch = 0; ch < 3; ++ch) ASSERT_EQ(video[i + ch], video[at + ch]);
+      }
+    }
+    const double fresnel = FresnelReflectance(r.z, 1.0, ior);
+    ASSERT_GT(fresnel, 0.3);
+    for (int ch = 0; ch < 3; ++ch) {
+      const double seen = SrgbToLinear(video[at + 2 - ch] / 255.0);
+      EXPECT_NEAR(added[ch], fresnel * seen, 0.02) << ch;
+    }
+    // The frame's pieces differ in colour, so the sky alone would not do.
+    double off_sky = 0.0;
+    for (int ch = 0; ch < 3; ++ch)
+      off_sky = std::max(off_sky, std::abs(added[ch] - fresnel));
+    EXPECT_GT(off_sky, 0.1);
+  }
 }
 
 }  // namespace

@@ -93,6 +93,16 @@ double DiffuseInternalReflectance(double n) {
       [n](double mu) { return FresnelReflectance(mu, n, 1.0); });
 }
 
+SnellWindowShares ComputeSnellWindowShares(double n) {
+  const double theta_c = std::asin(1.0 / n);
+  const double s = std::sin(theta_c), c = std::cos(theta_c);
+  SnellWindowShares w;
+  w.facing_up = s * s;
+  w.facing_side = (theta_c - s * c) / M_PI;
+  w.reflectance = (DiffuseInternalReflectance(n) - c * c) / w.facing_up;
+  return w;
+}
+
 double SkyTransmittance(double n, double sigma_per_m, double depth_m) {
   return HemisphereMean([&](double mu) {
     const double ct = CosRefracted(mu, 1.0, n);

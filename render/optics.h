@@ -61,6 +61,21 @@ double HighlightShoulder(double linear, double knee);
 // water.
 double DiffuseInternalReflectance(double n);
 
+// What a plane under a flat surface (index n over air) sees above it: the
+// cosine-weighted share of pi that Snell's window (the cone of half-angle
+// asin(1 / n) about the vertical) covers, for a plane facing up,
+// sin^2(theta_c), and for a vertical one, (theta_c - sin theta_c cos
+// theta_c) / pi; the rest of the plane's upper view (1 and 1/2 in all) is the
+// surface's total reflection. `reflectance` is the window's own mean Fresnel
+// reflectance seen from below (cosine-weighted over the window, so that
+// facing_up * reflectance + cos^2(theta_c) = DiffuseInternalReflectance).
+struct SnellWindowShares {
+  double facing_up = 0;
+  double facing_side = 0;
+  double reflectance = 0;
+};
+SnellWindowShares ComputeSnellWindowShares(double n);
+
 // Cosine-weighted hemispherical transmittance of a uniform sky through a flat
 // surface of index n into a layer of depth `depth_m` with absorption
 // `sigma_per_m`, to its floor: the mean over sky directions of

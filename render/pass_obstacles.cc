@@ -1,6 +1,7 @@
 #include "render/pass_obstacles.h"
 
 #include <algorithm>
+#include <vector>
 
 #include "render/gl_state.h"
 #include "render/shaders.h"
@@ -24,8 +25,9 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
     floor_sky_[i] = solid_[i].Uniform("u_floor_sky");
     floor_sun_[i] = solid_[i].Uniform("u_floor_sun");
     inv_n2_[i] = solid_[i].Uniform("u_inv_n2");
-    glUniform1f(solid_[i].Uniform("u_internal_reflectance"),
-                static_cast<float>(DiffuseInternalReflectance(options.ior)));
+    const SnellWindowShares w = ComputeSnellWindowShares(options.ior);
+    SetUniform(solid_[i].Uniform("u_window"),
+               glm::vec3(w.facing_up, w.facing_side, w.reflectance));
   }
   depth_model_.Resolve(depth_);
   return true;
@@ -40,18 +42,48 @@ bool ObstaclesPass::AllocateOutput(int width, int height) {
 }
 
 void ObstaclesPass::Draw(const FrameState& f, GLuint target,
-                         const SolidMeshes& solids) {
+                         const SolidMeshes& solids,
+                         const FloorReturnLight& floor_return) {
   const SceneInputs& scene = *f.scene;
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
+  const bool pen_phantom = scene.pen_visible && scene.effects.pen_occludes;
   if (!scene.obstacles.empty()) {
+    // The real pen hides the obstacles behind it: its phantom, at its
+    // tracked size, lays depth first, and the video (which shows the pen)
+    // stays where an obstacle lies behind it. Only over the obstacles'
+    // rectangle, where it can hide something.
+    if (pen_phantom) {
+      std::vector<glm::dvec3> corners;
+      for (const Obstacle& o : scene.obstacles) {
+        glm::dvec3 c[8];
+        ObstacleBoxCorners(o, c);
+        corners.insert(corners.end(), c, c + 8);
+      }
+      const glm::ivec4 rect = PointsRect(f.clip_from_tank, corners.data(),
+                                         static_cast<int>(corners.size()), 1,
+                                         f.k->width, f.k->height);
+      if (rect.z > 0 && rect.w > 0) {
+        state.Enable(GL_SCISSOR_TEST);
+        glScissor(rect.x, rect.y, rect.z, rect.w);
+        state.ColorMask(false);
+        glUseProgram(depth_.id());
+        solids.Draw(scene, depth_model_, f.clip_from_tank, false, true);
+        state.ColorMask(true);
+        glDisable(GL_SCISSOR_TEST);
+      }
+    }
     const int i = scene.effects.shadows ? 1 : 0;
     solid_common_[i].Set(solid_[i], f, f.clip_from_tank);
     // The floor's radiance in the water: the dry floor the video shows, lit
-    // as the water lights it (the flat surface's sky and light).
+    // as the water lights it at its mean (water.frag's floor): the flat
+    // surface's sky and light, the surroundings through the walls, and the
+    // light the surface returns to it from the floor around.
     const glm::vec3 wet =
-        f.ground.floor * (f.shading.floor_sky + f.shading.floor_sun);
+        f.ground.floor *
+        (FloorMeanLight(f.shading, floor_return) +
+         floor_return.mean_return * FloorAroundLight(f.shading, floor_return));
     SetUniform(ground_[i], f.ground.board);
     SetUniform(floor_wet_[i], wet);
     SetUniform(floor_sky_[i], f.shading.floor_sky);
@@ -78,7 +110,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   glActiveTexture(GL_TEXTURE0 + kUnitScene);
   glBindTexture(GL_TEXTURE_2D, scene_copy_tex_.id());
 
-  if (scene.pen_visible && scene.effects.pen_occludes) {
+  if (pen_phantom) {
     state.ColorMask(false);
     glUseProgram(depth_.id());
     solids.Draw(scene, depth_model_, f.clip_from_tank, false, true,

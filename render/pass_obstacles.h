@@ -1,9 +1,11 @@
 // Obstacles pass (internal to render/): draws the virtual obstacles over the
 // video (lit by the sky, the board around them and the light; under the
-// water by the floor around them and the light through the surface), copies
-// video + obstacles under the tank for the water's refraction, and lays the
-// real pen's depth (a phantom: no colour) so that the pen hides the water where
-// it is in front of it.
+// water by the floor around them, lit as the water lights it, and the light
+// through the surface), copies video + obstacles under the tank for the
+// water's refraction, and lays the real pen's depth (a phantom: no colour):
+// at its size before the obstacles, so that the pen hides an obstacle behind
+// it, and grown by the scene's margin after the copy, so that it hides the
+// water where it is in front of it.
 //
 // Redraw key: none (the output is redrawn every frame).
 #ifndef RIPPLE_RENDER_PASS_OBSTACLES_H_
@@ -24,7 +26,7 @@ class ObstaclesPass {
     glm::vec3 albedo{0.80f, 0.76f, 0.70f};  // linear RGB
     // ShadowFilterDefines of the renderer's filter (pass_shadow.h).
     std::string shadow_defines;
-    float ior = 1.333f;  // water: its surface's internal reflectance
+    float ior = 1.333f;  // water: Snell's window under its surface
   };
   bool Create(const Options& options, std::string* error);
   // (Re)allocates the refraction copy at the output's size.
@@ -32,7 +34,10 @@ class ObstaclesPass {
 
   // Draws into `target` (bound, depth cleared); leaves the refraction copy
   // bound to kUnitScene.
-  void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids);
+  // `floor_return`: this frame's floor-return means (WaterPass::
+  // UpdateFloorLight), for the floor's light under water.
+  void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids,
+            const FloorReturnLight& floor_return);
 
   GLuint scene_texture() const { return scene_copy_tex_.id(); }
 

@@ -409,7 +409,7 @@ bool Renderer::Render(const SceneInputs& scene,
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   if (tank_shadow) m.board_light.Draw(f, m.real_state);
-  m.obstacles.Draw(f, m.target.fbo(), m.solids);
+  m.obstacles.Draw(f, m.target.fbo(), m.solids, m.water.floor_return_light());
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (fx.walls) {
     m.walls.Draw(f, m.walls_mesh, m.water.floor_return_light(),

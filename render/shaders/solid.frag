@@ -13,7 +13,10 @@ uniform vec3 u_ground;
 uniform vec3 u_floor_wet;
 uniform vec3 u_floor_sky;
 uniform vec3 u_floor_sun;
-uniform float u_internal_reflectance;  // of the surface, seen from below
+// Snell's window from below (optics.h, SnellWindowShares): its share of
+// the view of a plane facing up and of a vertical one, and its own mean
+// reflectance.
+uniform vec3 u_window;
 uniform float u_inv_n2;
 void main() {
   vec3 n = normalize(v_n);
@@ -31,9 +34,12 @@ void main() {
   //   around the tank or, over the tank, the water (the wet floor seen
   //   through the surface, 1/n^2) and the board beyond the walls; the
   //   light's direct share by n.l / cos(light).
-  //   Under water: above, the sky through the surface (what the floor gets
-  //   from it) and the floor's light that the surface returns (total
-  //   internal reflection outside Snell's window); below, the floor; the
+  //   Under water: above, Snell's window (the sky through the surface, of
+  //   the radiance that gives the floor what it gets from it, and the floor
+  //   in the window's partial reflection) and outside it the floor totally
+  //   reflected, by their shares of this face's view (exact facing up,
+  //   sideways and down, linear between: a vertical face sees the window
+  //   near its horizon, a fifth of its upper view); below, the floor; the
   //   light refracted at the flat surface, by n.t / cos(t).
   float up = 0.5 * (1.0 + n.z), down = 0.5 * (1.0 - n.z);
   vec3 t = -u_light_refracted;  // towards the light, under water
@@ -46,9 +52,13 @@ void main() {
   diffuse *= Shadow(lit_at + n * 5e-4);
 #endif
   // The three terms' radiances, selected (llvmpipe would run both sides of
-  // a branch).
-  vec3 above = under ? u_floor_sky + u_internal_reflectance * u_floor_wet
-                     : vec3(u_ambient);
+  // a branch); `upper` is the upper view's light, weighted.
+  float window = n.z >= 0.0 ? mix(u_window.y, u_window.x, n.z)
+                            : u_window.y * (1.0 + n.z);
+  vec3 upper_water = window * (u_floor_sky / u_window.x +
+                               u_window.z * u_floor_wet) +
+                     (up - window) * u_floor_wet;
+  vec3 upper = under ? upper_water : u_ambient * vec3(up);
   // Over the tank the lower view is the water out to the walls and, at
   // depressions under delta = atan(height over the water / distance to the
   // wall along the face's horizontal normal), the board beyond them: a
@@ -66,7 +76,7 @@ void main() {
                      : (in_tank ? mix(u_floor_wet * u_inv_n2, u_ground, beyond)
                                 : u_ground);
   vec3 direct = under ? u_floor_sun : vec3(1.0 - u_ambient);
-  vec3 light = above * up + below * down + direct * diffuse;
+  vec3 light = upper + below * down + direct * diffuse;
   // Alpha 0 marks the obstacles' pixels for the water, which must not
   // light them as the floor behind them (video and water write 1); under
   // the water this is the radiance in the water, which the water pass sees

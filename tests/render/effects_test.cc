@@ -111,6 +111,18 @@ glm::dmat4 PenPose(const TankGeometry& tank, double tip_depth) {
   return m;
 }
 
+// The point of the pen's shaft `height_m` over the rest level, on its side
+// facing the camera (0.8 of the radius out from the axis).
+glm::dvec3 ShaftPointFacingTheCamera(const TestScene& s, double height_m) {
+  const glm::dvec3 cam(glm::inverse(s.inputs.cam_from_tank)[3]);
+  const glm::dmat4& pen = s.inputs.tank_from_pen;
+  const double z_pen =
+      (s.inputs.tank.water_level + height_m - pen[3].z) / pen[2].z;
+  const glm::dvec3 axis_point(pen * glm::dvec4(0, 0, z_pen, 1));
+  const glm::dvec3 to_cam = glm::normalize(cam - axis_point);
+  return axis_point + to_cam * (0.8 * s.inputs.pen.shaft_radius);
+}
+
 TestScene SceneWithOccluders(View view) {
   TestScene s = MakeScene(kW, kH, view, false);
   s.inputs.pen_visible = true;
@@ -198,14 +210,7 @@ TEST(EffectsTest, PenDippedIntoWater) {
 
   // A shaft point 4 mm above the surface, on the camera's side, whose pixel
   // looks at the water behind the pen.
-  const glm::dvec3 cam(glm::inverse(s.inputs.cam_from_tank)[3]);
-  const glm::dmat4& pen = s.inputs.tank_from_pen;
-  const double z_pen =
-      (s.inputs.tank.water_level + 0.004 - pen[3].z) / pen[2].z;
-  const glm::dvec3 axis_point(pen * glm::dvec4(0, 0, z_pen, 1));
-  const glm::dvec3 to_cam = glm::normalize(cam - axis_point);
-  const glm::dvec3 surface_point =
-      axis_point + to_cam * (0.8 * s.inputs.pen.shaft_radius);
+  const glm::dvec3 surface_point = ShaftPointFacingTheCamera(s, 0.004);
   const glm::dvec4 c = s.inputs.cam_from_tank * glm::dvec4(surface_point, 1);
   const int u = static_cast<int>(std::lround(s.k.fx * c.x / c.z + s.k.cx));
   const int v = static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy));
@@ -794,11 +799,13 @@ TEST(EffectsTest, ObstacleFacesSeeTheSkyAndTheBoard) {
 
 // An obstacle standing in the tank sees, below, the water out to the walls
 // and the board beyond them: its vertical face (out of the light) reads
-// albedo x (a / 2 + ((1 - b) W / n^2 + b G) / 2), with W the wet floor's
-// radiance (the video's grey G lit through the surface), and b = sin of the
-// depression to the wall's foot at the water line, h / sqrt(h^2 + D^2) for
-// a point h over the water and D from the wall along the face's normal. At
-// three heights over the front wall's top.
+// albedo x (a / 2 + ((1 - b) W / n^2 + b G) / 2), with W / n^2 the wet floor
+// as the air above the water sees it (the video's grey G lit as the water
+// lights the floor at its mean: the sky and the light through the surface,
+// the surroundings through the walls and the surface's return; FloorSeen),
+// and b = sin of the depression to the wall's foot at the water line,
+// h / sqrt(h^2 + D^2) for a point h over the water and D from the wall along
+// the face's normal. At three heights over the front wall's top.
 TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   const RendererOptions o;
@@ -823,8 +830,12 @@ TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
     const double b = h / std::sqrt(h * h + reach * reach);
     for (int ch = 0; ch < 3; ++ch) {  // B, G, R
       const int rgb = 2 - ch;
-      const double wet = g * (sh.floor_sky[rgb] + sh.floor_sun[rgb]);
-      const double below = (1.0 - b) * wet * sh.inv_n2 + b * g;
+      const double seen = FloorSeen(o, s.inputs, grey, grey, rgb);
+      // The floor lit by the sky and the light alone reads darker by more
+      // than the tolerance: the return and the surroundings matter here.
+      ASSERT_GT(seen,
+                1.15 * g * (sh.floor_sky[rgb] + sh.floor_sun[rgb]) * sh.inv_n2);
+      const double below = (1.0 - b) * seen + b * g;
       const double want =
           255.0 * LinearToSrgb(HighlightShoulder(
                       o.obstacle_albedo[rgb] * (0.5 * a + 0.5 * below),
@@ -832,6 +843,46 @@ TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
       EXPECT_NEAR(px[ch], want, 1.5) << "band " << ch << " z " << z;
     }
   }
+}
+
+// The real pen hides a virtual obstacle behind it, as it hides the water:
+// where the pen's shaft stands in front of a pillar the output is the
+// video (which shows the pen); without the pen's phantom the pillar covers
+// it.
+TEST(EffectsTest, PenInFrontOfAnObstacleHidesIt) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = SceneWithOccluders(View::kFront);
+  testing::PaintPen(s.k, s.inputs.cam_from_tank, s.inputs.tank_from_pen,
+                    s.inputs.pen, &s.video);
+  // A shaft point 10 mm over the surface, on the camera's side; a pillar
+  // of 14 mm radius stands where the camera's ray through it comes down to
+  // 15 mm.
+  const glm::dvec3 cam(glm::inverse(s.inputs.cam_from_tank)[3]);
+  const glm::dvec3 shaft_point = ShaftPointFacingTheCamera(s, 0.010);
+  const glm::dvec3 ray = glm::normalize(shaft_point - cam);
+  const glm::dvec3 behind = cam + ray * ((0.015 - cam.z) / ray.z);
+  s.inputs.obstacles[0].tank_from_obstacle[3] =
+      glm::dvec4(behind.x, behind.y + 0.006, 0.0, 1.0);
+  s.inputs.obstacles[0].size = {0.014f, 0.0f, 0.045f};
+  const cv::Point px = ImagePoint(s, shaft_point);
+  const cv::Mat video(kH, kW, CV_8UC3, s.video.data());
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  const cv::Mat with_phantom = RenderScene(r.get(), s.inputs);
+  EXPECT_EQ(with_phantom.at<cv::Vec3b>(px), video.at<cv::Vec3b>(px))
+      << "the pen in front of the pillar shows the video";
+  s.inputs.effects.pen_occludes = false;
+  const cv::Mat without = RenderScene(r.get(), s.inputs);
+  EXPECT_NE(without.at<cv::Vec3b>(px), video.at<cv::Vec3b>(px))
+      << "without the phantom the pillar covers the pen";
+  // The pillar, wider than the shaft, is drawn beside it.
+  const double dx = 0.011, radius = s.inputs.obstacles[0].size.x;
+  const cv::Point beside = ImagePoint(
+      s, glm::dvec3(behind.x + dx,
+                    behind.y + 0.006 - std::sqrt(radius * radius - dx * dx),
+                    0.035));
+  EXPECT_NE(with_phantom.at<cv::Vec3b>(beside), video.at<cv::Vec3b>(beside));
+  EXPECT_EQ(with_phantom.at<cv::Vec3b>(beside), without.at<cv::Vec3b>(beside));
 }
 
 // A glass wall facing the camera is a vertical mirror: its faces reflect

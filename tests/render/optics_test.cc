@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <initializer_list>
 
@@ -101,6 +102,35 @@ TEST(OpticsTest, HighlightShoulderKeepsTheShapeAboveTheKnee) {
   EXPECT_GE(255 * (LinearToSrgb(HighlightShoulder(3.0, k)) -
                    LinearToSrgb(HighlightShoulder(1.5, k))),
             3.0);
+}
+
+// Snell's window's shares of a plane's view under water, against direct
+// quadrature over directions (zenith t, azimuth p): (1 / pi) times the
+// integral of max(0, d . n) sin t over the window, for a plane facing up and
+// a vertical one; the rest of the upper view is the total reflection; the
+// window's reflectance makes up DiffuseInternalReflectance.
+TEST(OpticsTest, SnellWindowSharesMatchQuadrature) {
+  const SnellWindowShares w = ComputeSnellWindowShares(kWater);
+  const double theta_c = std::asin(1.0 / kWater);
+  const int nt = 2000, np = 2000;
+  double up = 0, side = 0;
+  for (int i = 0; i < nt; ++i) {
+    const double t = (i + 0.5) * theta_c / nt;
+    for (int j = 0; j < np; ++j) {
+      const double p = (j + 0.5) * 2.0 * M_PI / np;
+      const double dw = std::sin(t) * (theta_c / nt) * (2.0 * M_PI / np);
+      up += std::cos(t) * dw;
+      side += std::max(0.0, std::sin(t) * std::cos(p)) * dw;
+    }
+  }
+  EXPECT_NEAR(w.facing_up, up / M_PI, 1e-5);
+  EXPECT_NEAR(w.facing_side, side / M_PI, 1e-5);
+  EXPECT_NEAR(w.facing_up, 1.0 / (kWater * kWater), 1e-12);
+  EXPECT_NEAR(w.facing_side, 0.112, 0.001);
+  EXPECT_NEAR(w.facing_up * w.reflectance + 1.0 - w.facing_up,
+              DiffuseInternalReflectance(kWater), 1e-12);
+  EXPECT_GT(w.reflectance, 0.02);  // normal incidence's 0.0204 and more
+  EXPECT_LT(w.reflectance, 0.2);
 }
 
 // Energy between the two sides of a flat interface: the diffuse light a

@@ -187,9 +187,13 @@ bool Renderer::Impl::Init(std::string* error) {
       o.optics.ior};
   const bool cube = o.reflection_map == ReflectionMap::kCubeMap;
   const bool sky = o.daylight.has_value();
-  const internal::WaterPass::Options water_options{
-      o.surface_grid,         o.optics, cube, sky, o.water_regions,
-      o.water_shading_columns};
+  internal::WaterPass::Options water_options;
+  water_options.surface_grid = o.surface_grid;
+  water_options.optics = o.optics;
+  water_options.env_cube = cube;
+  water_options.sky = sky;
+  water_options.regions = o.water_regions;
+  water_options.shading_columns = o.water_shading_columns;
   const internal::WallsPass::Options walls_options{o.optics, cube, sky};
   internal::EnvMapPass::Options envmap_options;
   envmap_options.face_size = o.envmap.face_size;

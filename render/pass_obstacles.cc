@@ -49,6 +49,12 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   const bool pen_phantom = scene.pen_visible && scene.effects.pen_occludes;
+  // The pen's cube and shaft in depth only, grown by `grow_m`.
+  auto draw_phantom = [&](double grow_m) {
+    state.ColorMask(false);
+    glUseProgram(depth_.id());
+    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, grow_m);
+  };
   if (!scene.obstacles.empty()) {
     // The real pen hides the obstacles behind it: its phantom, at its
     // tracked size, lays depth first, and the video (which shows the pen)
@@ -67,9 +73,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
       if (rect.z > 0 && rect.w > 0) {
         state.Enable(GL_SCISSOR_TEST);
         glScissor(rect.x, rect.y, rect.z, rect.w);
-        state.ColorMask(false);
-        glUseProgram(depth_.id());
-        solids.Draw(scene, depth_model_, f.clip_from_tank, false, true);
+        draw_phantom(0.0);
         state.ColorMask(true);
         glDisable(GL_SCISSOR_TEST);
       }
@@ -110,12 +114,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   glActiveTexture(GL_TEXTURE0 + kUnitScene);
   glBindTexture(GL_TEXTURE_2D, scene_copy_tex_.id());
 
-  if (pen_phantom) {
-    state.ColorMask(false);
-    glUseProgram(depth_.id());
-    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true,
-                scene.pen_margin_m);
-  }
+  if (pen_phantom) draw_phantom(scene.pen_margin_m);
 }
 
 }  // namespace ripple::render::internal

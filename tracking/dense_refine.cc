@@ -97,27 +97,53 @@ struct Row {
   Eigen::Matrix<double, 1, 6> j = Eigen::Matrix<double, 1, 6>::Zero();
 };
 
+// A face's template blur as a continuous level: `level` in [0, kBlurLevels
+// - 1] blends the two precomputed levels around it linearly, so that the
+// template's blur follows the image's without jumping from one level to the
+// next (a jump changes the fitted scale of a small face: its distance).
+// Level -1 takes every sample and leaves the template value at level 0.
+struct BlurLevel {
+  int lo = 0, hi = 0;   // precomputed levels blended
+  double w = 0;         // weight of `hi`
+  unsigned mask = ~0u;  // samples informative at `lo` or `hi`
+};
+
+BlurLevel MakeBlurLevel(double level) {
+  BlurLevel b;
+  if (level < 0) return b;
+  constexpr int kTop = DenseTagModel::kBlurLevels - 1;
+  b.lo = std::min(static_cast<int>(level), kTop);
+  b.hi = std::min(b.lo + 1, kTop);
+  b.w = b.hi == b.lo ? 0.0 : level - b.lo;
+  b.mask = (1u << b.lo) | (b.w > 0 ? 1u << b.hi : 0u);
+  return b;
+}
+
+double TemplateValue(const DenseTagModel::Sample& s, const BlurLevel& b) {
+  return (1 - b.w) * s.value[b.lo] + b.w * s.value[b.hi];
+}
+
 // Samples every face of `faces` at `pose`: the image value of each sample
 // inside the image and, with `jacobian`, its derivative with respect to the
 // pose increment.
 void Linearise(const cv::Mat& gray, const Camera& camera,
                const DenseTagModel& model, const std::vector<int>& faces,
-               const std::vector<int>& levels, const Pose& pose, bool jacobian,
-               std::vector<Row>* rows) {
+               const std::vector<double>& levels, const Pose& pose,
+               bool jacobian, std::vector<Row>* rows) {
   rows->clear();
   const Eigen::Matrix3d r = pose.R();
   // The gradient's taps (+-1 px) must be inside the image too.
   const double x_max = gray.cols - 3, y_max = gray.rows - 3;
   for (size_t f = 0; f < faces.size(); ++f) {
-    const unsigned mask = levels[f] < 0 ? ~0u : 1u << levels[f];
+    const BlurLevel blur = MakeBlurLevel(levels[f]);
     for (const DenseTagModel::Sample& s : model.faces()[faces[f]].samples) {
-      if (!(s.informative & mask)) continue;
+      if (!(s.informative & blur.mask)) continue;
       const Eigen::Vector3d p = r * s.point + pose.translation;
       if (p.z() < 1e-3) continue;
       Row row;
       row.face = static_cast<int>(f);
       row.sample = &s;
-      row.t = s.value[std::max(levels[f], 0)];
+      row.t = TemplateValue(s, blur);
       if (!jacobian) {
         const Eigen::Vector2d uv = camera.Project(p);
         if (!(uv.x() >= 1 && uv.y() >= 1 && uv.x() < x_max && uv.y() < y_max))
@@ -212,7 +238,10 @@ void Cost(const std::vector<Row>& rows, const Fit& fit, double huber,
 }
 
 // Template blur of the coarse phase (an index into kBlurCells).
-constexpr int kCoarseLevel = 2;
+constexpr double kCoarseLevel = 2;
+
+// Steps of the search for a face's continuous blur level.
+constexpr int kLevelSteps = 16;  // per precomputed level
 
 Pose Apply(const Pose& pose, const Eigen::Matrix<double, 6, 1>& d) {
   const Eigen::Vector3d w = d.head<3>();
@@ -305,41 +334,76 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   if (faces.empty()) return false;
   const int nf = static_cast<int>(faces.size());
 
-  // Per face, the template blur that fits the image best at the start.
-  std::vector<int> levels(nf, 0);
+  // Per face, the template blur that fits the image best at the start: the
+  // continuous level whose blended template leaves the least squared
+  // residual after the face's gain and offset, searched in steps of
+  // 1 / kLevelSteps.
+  std::vector<double> levels(nf, 0);
   std::vector<Row> rows;
   {
     // Every sample (level -1), values only.
-    Linearise(gray, camera, model, faces, std::vector<int>(nf, -1), start,
+    Linearise(gray, camera, model, faces, std::vector<double>(nf, -1), start,
               false, &rows);
-    // One pass: per face and level the sums of the least-squares fit of
-    // image on template.
+    // One pass: per face the moments of the image and the five templates,
+    // from which the line fit of any blend follows.
     constexpr int kL = DenseTagModel::kBlurLevels;
-    std::vector<std::array<LineSums, kL>> sums(nf);
-    for (const Row& r : rows)
-      for (int l = 0; l < kL; ++l) sums[r.face][l].Add(r.sample->value[l], r.i);
+    using Vec = Eigen::Matrix<double, kL, 1>;
+    struct Moments {
+      double n = 0, i = 0, ii = 0;
+      Vec v = Vec::Zero(), vi = Vec::Zero();
+      Eigen::Matrix<double, kL, kL> vv = Eigen::Matrix<double, kL, kL>::Zero();
+    };
+    std::vector<Moments> moments(nf);
+    for (const Row& r : rows) {
+      Moments& m = moments[r.face];
+      const Vec v =
+          Eigen::Map<const Eigen::Matrix<float, kL, 1>>(r.sample->value.data())
+              .cast<double>();
+      m.n += 1;
+      m.i += r.i;
+      m.ii += r.i * r.i;
+      m.v += v;
+      m.vi += r.i * v;
+      m.vv.selfadjointView<Eigen::Upper>().rankUpdate(v);
+    }
     for (int f = 0; f < nf; ++f) {
+      const Moments& m = moments[f];
+      const Eigen::Matrix<double, kL, kL> vv =
+          m.vv.selfadjointView<Eigen::Upper>();
       double best = std::numeric_limits<double>::infinity();
-      for (int l = 0; l < kL; ++l) {
+      for (int k = 0; k <= (kL - 1) * kLevelSteps; ++k) {
+        const double level = static_cast<double>(k) / kLevelSteps;
+        const BlurLevel b = MakeBlurLevel(level);
+        Vec c = Vec::Zero();
+        c(b.lo) += 1 - b.w;
+        c(b.hi) += b.w;
+        LineSums sums;
+        sums.n = m.n;
+        sums.t = c.dot(m.v);
+        sums.tt = c.dot(vv * c);
+        sums.i = m.i;
+        sums.ti = c.dot(m.vi);
+        sums.ii = m.ii;
         double gain, offset;
-        if (!sums[f][l].Solve(&gain, &offset)) continue;
-        const double sse = sums[f][l].Residual(gain, offset);
+        if (!sums.Solve(&gain, &offset)) continue;
+        const double sse = sums.Residual(gain, offset);
         if (sse < best) {
           best = sse;
-          levels[f] = l;
+          levels[f] = level;
         }
       }
     }
   }
   // The starting cost on the chosen templates: the samples informative at
   // each face's level, out of those just taken.
-  rows.erase(
-      std::remove_if(rows.begin(), rows.end(),
-                     [&](const Row& r) {
-                       return !(r.sample->informative & (1u << levels[r.face]));
-                     }),
-      rows.end());
-  for (Row& r : rows) r.t = r.sample->value[levels[r.face]];
+  rows.erase(std::remove_if(rows.begin(), rows.end(),
+                            [&](const Row& r) {
+                              return !(r.sample->informative &
+                                       MakeBlurLevel(levels[r.face]).mask);
+                            }),
+             rows.end());
+  for (Row& r : rows)
+    r.t = TemplateValue(*r.sample, MakeBlurLevel(levels[r.face]));
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);
   double cost0, rms0;
   int n0;
@@ -354,10 +418,10 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   int n = n0;
   // Coarse to fine: the first iterations use a template at least
   // kCoarseLevel blurred, whose basin is wider than a sharp one's.
-  std::vector<int> current = levels;
-  for (int& l : current) l = std::max(l, kCoarseLevel);
+  std::vector<double> current = levels;
+  for (double& l : current) l = std::max(l, kCoarseLevel);
   // Switches templates (and with them the informative samples) at `pose`.
-  auto use_levels = [&](const std::vector<int>& lv, bool jacobian) {
+  auto use_levels = [&](const std::vector<double>& lv, bool jacobian) {
     current = lv;
     Linearise(gray, camera, model, faces, lv, pose, jacobian, &rows);
     fit = FitGains(rows, nf, 0.0);

@@ -70,7 +70,9 @@ struct DenseRefineResult {
   int faces = 0;         // faces used
   int samples = 0;       // samples used in the last iteration
   int iterations = 0;
-  std::vector<int> blur_levels;                // chosen per face used
+  // Chosen template blur per face used: a continuous level, blending
+  // DenseTagModel::kBlurCells[floor] and [ceil].
+  std::vector<double> blur_levels;
   double rms_before_dn = 0, rms_after_dn = 0;  // photometric RMS residual
 };
 
@@ -84,8 +86,8 @@ class DenseTagModel {
       const DenseRefineOptions& options, std::string* error);
 
   // The bitmap is blurred by Gaussians of these sigmas (cells); each face
-  // uses the level that fits the image best at the starting pose, so that
-  // the template's blur matches the image's.
+  // uses the blend of two neighbouring levels that fits the image best at
+  // the starting pose, so that the template's blur matches the image's.
   static constexpr int kBlurLevels = 5;
   static constexpr double kBlurCells[kBlurLevels] = {0.08, 0.2, 0.35, 0.55,
                                                      0.8};

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "tests/shipped_data.h"
 #include "tests/tracking/synth_sequence.h"
@@ -86,6 +87,17 @@ Errors PoseErrors(const Pose& a, const Pose& b) {
           (a.translation - b.translation).norm() * 1e3};
 }
 
+// The default pen's dense model (a test failure and nullopt if it cannot be
+// made).
+std::optional<DenseTagModel> PenModel(const Rig& rig) {
+  std::string error;
+  auto family = TagFamily::Create(rig.family);
+  auto model = DenseTagModel::Create(*family, rig.pen->faces,
+                                     DenseRefineOptions{}, &error);
+  EXPECT_TRUE(model) << error;
+  return model;
+}
+
 // Renders frames of a preset with the pen in view and refines perturbed
 // starts; returns the median errors before and after.
 void RefineOnPreset(const std::string& preset, Errors* before, Errors* after) {
@@ -95,11 +107,8 @@ void RefineOnPreset(const std::string& preset, Errors* before, Errors* after) {
       test_data::SynthSpecs(camera, rig, preset, 24, 4, 11);
   ASSERT_FALSE(specs.empty());
   synth::SceneRenderer renderer(camera, rig);
-  std::string error;
-  auto family = TagFamily::Create(rig.family);
-  const auto model = DenseTagModel::Create(*family, rig.pen->faces,
-                                           DenseRefineOptions{}, &error);
-  ASSERT_TRUE(model) << error;
+  const auto model = PenModel(rig);
+  ASSERT_TRUE(model);
   std::vector<double> rot0, tr0, rot1, tr1;
   int k = 0;
   for (const synth::FrameSpec& spec : specs) {
@@ -173,11 +182,8 @@ TEST(DenseRefineTest, TemplateBlurFollowsTheImageBlurContinuously) {
   const std::vector<synth::FrameSpec> specs =
       test_data::SynthSpecs(camera, rig, "clean", 24, 4, 11);
   synth::SceneRenderer renderer(camera, rig);
-  std::string error;
-  auto family = TagFamily::Create(rig.family);
-  const auto model = DenseTagModel::Create(*family, rig.pen->faces,
-                                           DenseRefineOptions{}, &error);
-  ASSERT_TRUE(model) << error;
+  const auto model = PenModel(rig);
+  ASSERT_TRUE(model);
   std::vector<double> largest_steps_mm;
   for (const synth::FrameSpec& spec : specs) {
     if (!spec.scene.tank_from_pen) continue;

@@ -32,6 +32,11 @@ void AddSmoothingOptions(CLI::App* sub, SmoothingArgs* args) {
                   "Smoothing: bound on the lag behind a steady motion, "
                   "seconds (default " +
                       num(d.pen.max_lag_s) + ")");
+  sub->add_option("--smooth-bridge-loss", args->bridge_loss_s,
+                  "Smoothing: an object found again within this many seconds "
+                  "goes on through its filter, 0 restarts it on every loss "
+                  "(default " +
+                      num(d.bridge_loss_s) + ")");
 }
 
 bool ApplySmoothingOptions(const SmoothingArgs& args,
@@ -64,6 +69,13 @@ bool ApplySmoothingOptions(const SmoothingArgs& args,
       return false;
     }
     smoothing->pen.beta_translation_hz_per_m_s = args.pen_beta;
+  }
+  if (!std::isnan(args.bridge_loss_s)) {
+    if (!(args.bridge_loss_s >= 0) || !std::isfinite(args.bridge_loss_s)) {
+      if (error) *error = "--smooth-bridge-loss must be a number >= 0";
+      return false;
+    }
+    smoothing->bridge_loss_s = args.bridge_loss_s;
   }
   return smoothing->IsValid(error);
 }

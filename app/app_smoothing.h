@@ -15,11 +15,12 @@ namespace ripple::app {
 struct SmoothingArgs {
   std::string smoothing;  // "on", "off"; empty: the tracker's default
   // NaN: the default of tracking::SmoothingOptions.
-  double pen_hz = std::nan("");      // pen tip's cut-off at rest, Hz
-  double pen_beta = std::nan("");    // Hz per (m/s) of tip speed
-  double pen_rot_hz = std::nan("");  // pen rotation's cut-off at rest, Hz
-  double tank_hz = std::nan("");     // tank's cut-off at rest, Hz
-  double max_lag_s = std::nan("");   // both filters' lag bound, s
+  double pen_hz = std::nan("");         // pen tip's cut-off at rest, Hz
+  double pen_beta = std::nan("");       // Hz per (m/s) of tip speed
+  double pen_rot_hz = std::nan("");     // pen rotation's cut-off at rest, Hz
+  double tank_hz = std::nan("");        // tank's cut-off at rest, Hz
+  double max_lag_s = std::nan("");      // both filters' lag bound, s
+  double bridge_loss_s = std::nan("");  // a loss the filters outlive, s
 };
 
 void AddSmoothingOptions(CLI::App* sub, SmoothingArgs* args);

@@ -58,6 +58,7 @@ Pose PoseFilter::Restart(const Pose& ref_from_object, double time_s) {
                  ref_from_object.rotation,
                  pivot,
                  Eigen::Matrix<double, 6, 1>::Zero(),
+                 time_s,
                  time_s};
   restarted_ = true;
   return ref_from_object;
@@ -83,9 +84,14 @@ Pose PoseFilter::Filter(const Pose& ref_from_object, double time_s) {
   Eigen::Matrix<double, 6, 1> rate;
   rate << step_r / dt, step_t / dt;
   s.rate += LowPassAlpha(options_.derivative_cutoff_hz, dt) * (rate - s.rate);
+  // A growing memory after a restart: the time constant is at most the
+  // time since the restart.
+  const double max_tau = options_.growing_memory
+                             ? std::min(options_.max_lag_s, time_s - s.start_s)
+                             : options_.max_lag_s;
   auto tau = [&](double min_cutoff_hz, double beta, double speed) {
     const double cutoff = min_cutoff_hz + beta * speed;
-    return std::min(1.0 / (2.0 * M_PI * cutoff), options_.max_lag_s);
+    return std::min(1.0 / (2.0 * M_PI * cutoff), max_tau);
   };
   const double tau_r =
       tau(options_.min_cutoff_rotation_hz, options_.beta_rotation_hz_per_rad_s,

@@ -85,6 +85,10 @@ PoseFilterOptions SmoothingOptions::DefaultPenFilter() {
 }
 
 bool SmoothingOptions::IsValid(std::string* error) const {
+  if (!(bridge_loss_s >= 0)) {
+    if (error) *error = "smoothing bridge_loss_s must be >= 0 (s)";
+    return false;
+  }
   std::string what;
   if (!tank.IsValid(&what)) {
     if (error) *error = "tank " + what;
@@ -332,7 +336,9 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
   *out = ObjectTrack{};
   if (estimate) {
     const bool fresh = cut || !state->last_raw.has_value();
-    if (fresh) state->filter.Reset();
+    if (cut || (fresh && !(time_s - state->last_seen_s <=
+                           options_.smoothing.bridge_loss_s)))
+      state->filter.Reset();
     out->status = TrackStatus::kTracked;
     out->rmse_px = estimate->pose.rmse_px;
     out->tags = estimate->pose.tag_ids;
@@ -379,7 +385,8 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
   state->last_raw.reset();
   state->last_output.reset();
   state->hypotheses.other.reset();
-  state->filter.Reset();
+  // The filter outlives a short loss (SmoothingOptions::bridge_loss_s).
+  if (cut) state->filter.Reset();
   out->status = TrackStatus::kLost;
 }
 

@@ -61,11 +61,17 @@ std::optional<FaceSelection> ParseFaceSelection(
 // One Euro smoothing of the reported poses. The tank is filtered in the
 // camera frame; the pen relative to the tank (its tip the filtered point)
 // while the tank is tracked, so that the tank's filter never lags the tip,
-// and in the camera frame otherwise. A filter restarts on a cut, a loss, a
-// taken jump, when the pen's reference frame changes, on a jump beyond its
-// reset bounds, and (reset_when_ambiguous) while the pen is ambiguous.
+// and in the camera frame otherwise. A filter restarts on a cut, a loss
+// longer than bridge_loss_s, a taken jump, when the pen's reference frame
+// changes, on a jump beyond its reset bounds, and (reset_when_ambiguous)
+// while the pen is ambiguous.
 struct SmoothingOptions {
   bool enabled = true;
+  // An object found again within this many seconds of its last pose goes on
+  // through its filter (seconds, >= 0): a pen at rest that drops out of
+  // detection for a few frames comes back smoothed, and the filter's reset
+  // bounds still restart it if it moved meanwhile.
+  double bridge_loss_s = 0.5;
   // Restart the pen's filter on every frame where it is ambiguous. Without
   // it a switch of branch still restarts it: the branches are more than
   // flip_angle_deg apart, beyond the pen filter's reset_rotation_deg.

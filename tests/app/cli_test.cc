@@ -61,7 +61,8 @@ TEST(CliTest, BadSmoothingOptionsExitCode2) {
             2);
   for (const std::string option :
        {"--smooth-pen-hz -1", "--smooth-pen-rot-hz 0", "--smooth-tank-hz -2",
-        "--smooth-max-lag 0", "--smooth-pen-beta -1"}) {
+        "--smooth-max-lag 0", "--smooth-pen-beta -1",
+        "--smooth-bridge-loss -0.1"}) {
     const auto r = RunRipple("track --input x --out y " + option);
     EXPECT_EQ(r.exit_code, 2) << option;
     EXPECT_THAT(r.output, HasSubstr(option.substr(0, option.find(' '))))

@@ -86,6 +86,48 @@ TEST(PoseFilterTest, StaticNoisyPoseStdDropsByThePredictedFactor) {
   EXPECT_LT(predicted, 0.35);
 }
 
+// After a restart the first samples of a pose at rest are weighted about
+// equally: the output's error a few frames on is near the running mean's,
+// sigma / sqrt(k + 1), where a plain low-pass still holds the restart's
+// sample with most of its weight.
+TEST(PoseFilterTest, GrowingMemoryAveragesTheFirstSamples) {
+  const double dt = 1 / 30.0, sigma = 1e-4;
+  constexpr int kSamples = 16, kRuns = 4000;
+  std::vector<double> growing_ss(kSamples, 0), plain_ss(kSamples, 0);
+  for (const bool growing : {true, false}) {
+    PoseFilterOptions o = LowPass(1.0);
+    o.growing_memory = growing;
+    std::mt19937 rng(7);
+    std::normal_distribution<double> noise(0, sigma);
+    std::vector<double>& ss = growing ? growing_ss : plain_ss;
+    for (int run = 0; run < kRuns; ++run) {
+      PoseFilter filter(o);
+      for (int k = 0; k < kSamples; ++k) {
+        const Pose z(Eigen::Quaterniond::Identity(),
+                     Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+        const Pose out = filter.Filter(z, 100 + k * dt);
+        ss[k] += out.translation.squaredNorm() / 3;
+      }
+    }
+  }
+  for (int k = 1; k < kSamples; ++k) {
+    const double growing = std::sqrt(growing_ss[k] / kRuns) / sigma;
+    const double plain = std::sqrt(plain_ss[k] / kRuns) / sigma;
+    const double mean = 1 / std::sqrt(k + 1.0);
+    std::printf(
+        "sample %2d: error / sigma %.3f growing, %.3f plain, %.3f "
+        "running mean\n",
+        k, growing, plain, mean);
+    EXPECT_LT(growing, 1.3 * mean) << k;
+    // Until the cut-off's own memory (tau = 0.16 s, 4.8 frames) takes over.
+    if (k <= 8) EXPECT_LT(growing, plain) << k;
+  }
+  // One frame after the restart the plain low-pass keeps 0.9 of the first
+  // sample (error 0.91 sigma against the mean's 0.71).
+  EXPECT_GT(std::sqrt(plain_ss[1] / kRuns),
+            1.15 * std::sqrt(growing_ss[1] / kRuns));
+}
+
 TEST(PoseFilterTest, DefaultsSmoothAtRestNearTheirMinimumCutoff) {
   // The speed adaptation must not be driven by the noise itself.
   for (const double fps : {30.0, 60.0}) {

@@ -530,6 +530,73 @@ TEST(TrackerTest, SmoothingLowersStaticJitterAndFollowsTheTipInTheTank) {
   EXPECT_LT(rms_on, 0.6 * rms_off);
 }
 
+// A pen at rest that drops out of detection for a few frames comes back
+// through its filter (SmoothingOptions::bridge_loss_s), not restarted at
+// one raw pose; a pen that moved while hidden is reported where it is.
+TEST(TrackerTest, SmoothingBridgesAShortLossOfAPenAtRest) {
+  const Rig rig = DefaultRig();
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  const Pose cam_from_tank = BoardView();
+  TrackerOptions bridged;
+  TrackerOptions restarted = bridged;
+  restarted.smoothing.bridge_loss_s = 0;
+  for (const bool moved : {false, true}) {
+    // The reported tip's jump from the last frame before the loss to the
+    // first after it, over several noise draws.
+    double ss_a = 0, ss_b = 0;
+    constexpr int kTrials = 6;
+    for (int trial = 0; trial < kTrials; ++trial) {
+      Tracker a(camera, rig, bridged), b(camera, rig, restarted);
+      std::mt19937 rng(13 + trial);
+      Pose tank_from_pen = TankFromPen(0);
+      Eigen::Vector3d before_a, before_b;
+      for (int f = 0; f < 15; ++f) {
+        // Hidden for frames 12-13; moved 5 mm meanwhile when `moved`.
+        const bool hidden = f == 12 || f == 13;
+        if (moved && f == 13) tank_from_pen.translation.x() += 0.005;
+        std::vector<TagDetection> dets = testing::ProjectDetections(
+            camera, rig.tank_tags, cam_from_tank, 0.05, &rng);
+        if (!hidden)
+          dets = Concat(dets, testing::ProjectDetections(
+                                  camera, rig.pen->faces,
+                                  cam_from_tank * tank_from_pen, 0.1, &rng));
+        const FrameResult ra = a.TrackDetections(dets, f / kFps);
+        const FrameResult rb = b.TrackDetections(dets, f / kFps);
+        if (hidden) {
+          EXPECT_FALSE(ra.pen.has_pose()) << f;  // pen_hold_s is 0
+          continue;
+        }
+        ASSERT_TRUE(ra.tip_in_tank && rb.tip_in_tank) << f;
+        if (f == 11) {
+          before_a = *ra.tip_in_tank;
+          before_b = *rb.tip_in_tank;
+        }
+        if (f < 14) continue;
+        const Eigen::Vector3d tip = tank_from_pen * rig.pen->tip_in_pen;
+        if (moved) {
+          // Beyond the filter's 1 mm bound: reported at once, as the raw
+          // pose is.
+          EXPECT_LT((*ra.tip_in_tank - *rb.tip_in_tank).norm(), 1e-9);
+          EXPECT_LT((*ra.tip_in_tank - tip).norm(), 1e-3);
+        }
+        ss_a += (*ra.tip_in_tank - before_a).squaredNorm();
+        ss_b += (*rb.tip_in_tank - before_b).squaredNorm();
+      }
+    }
+    const double jump_a = std::sqrt(ss_a / kTrials),
+                 jump_b = std::sqrt(ss_b / kTrials);
+    std::printf(
+        "%s: the tip's jump over the loss, RMS %.3f mm bridged, %.3f mm "
+        "restarted\n",
+        moved ? "moved 5 mm while hidden" : "at rest", 1e3 * jump_a,
+        1e3 * jump_b);
+    // Measured: 0.55 mm bridged, 0.78 mm restarted. The two missing frames
+    // fade the filter's memory (weight 0.25 on the new pose), and a
+    // re-acquired pose beyond the 1 mm bound still restarts it.
+    if (!moved) EXPECT_LT(jump_a, 0.8 * jump_b);
+  }
+}
+
 TEST(TrackerTest, SmoothingDoesNotSmearAFastTurn) {
   const Rig rig = DefaultRig();
   const Camera camera = MakeIdealCamera(640, 480, 60.0);

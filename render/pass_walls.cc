@@ -66,7 +66,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   const double outside[4] = {-hs.y - cam.y, cam.x - hs.x, cam.y - hs.y,
                              -hs.x - cam.x};
   // Front walls: between the surface's lowest and highest points (this
-  // frame's height range, widened by the meniscus's width) with the
+  // frame's height range, widened by kSurfaceSlack_m) with the
   // FRONT_WALL program, which tests each pixel against the surface; above
   // with the plain one, which is the same there; under with the variant
   // that skips the test.

@@ -50,9 +50,8 @@ class WallsPass {
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
         return_tint_[kPrograms] = {}, floor_around_[kPrograms] = {},
         board_mirror_[kPrograms] = {}, floor_seen_[kPrograms] = {};
-  // The walls' parts are cut this far outside the surface's height range:
-  // the meniscus line is 0.7 mm wide, and the range's 8-bit code and the
-  // mesh's filtering stay well inside it.
+  // The walls' parts are cut this far outside the surface's height range,
+  // which the range's 8-bit code and the mesh's filtering stay well inside.
   static constexpr float kSurfaceSlack_m = 0.001f;
 };
 

@@ -10,14 +10,16 @@
 // the floor, or the sky through it) or on the far wall (what lies beyond).
 //
 // With UNDER_SURFACE too, the part of a front wall under the surface's
-// lowest point, where neither the surface test nor the meniscus is needed.
+// lowest point, where the surface test is not needed.
 //
 // Elsewhere (above the water, walls facing away) the blend runs on encoded
 // values: the glass's exact Fresnel reflection of the sky is computed in
 // linear light as dst * T + C and carried into the encoded output to first
 // order: with sRGB, src1 = T^(1/2.2) (exact for a power-law transfer) and
-// src0 = C times the transfer's slope at mid-grey (0.66). Rims and the
-// meniscus line are mixed towards white in encoded space.
+// src0 = C times the transfer's slope at mid-grey (0.66). Rims are mixed
+// towards white in encoded space. The waterline gets no line of its own:
+// the surface meets the glass flat, as in the reference renderer (no
+// meniscus).
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;
@@ -78,7 +80,7 @@ vec4 Exits(vec3 p, vec3 d) {
 void main() {
   vec3 v = normalize(v_p - u_cam_in_tank);
   vec2 half_size = 0.5 * u_tank.xy;
-#ifndef UNDER_SURFACE
+#if defined(FRONT_WALL) && !defined(UNDER_SURFACE)
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
 #endif
   vec3 color = vec3(0.0);
@@ -150,13 +152,8 @@ void main() {
                sky_seen * r_glass;
     float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
     float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
-#ifdef UNDER_SURFACE
-    float a = clamp(0.45 * rim, 0.0, 1.0);
-#else
-    float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));
-    float a = clamp(0.45 * rim + 0.3 * meniscus, 0.0, 1.0);
-#endif
-    o_color = vec4(mix(EncodeOutput(lin), vec3(0.9, 0.97, 1.0), a), 1.0);
+    o_color =
+        vec4(mix(EncodeOutput(lin), vec3(0.9, 0.97, 1.0), 0.45 * rim), 1.0);
     o_transmit = vec4(0.0);
     return;
   }
@@ -171,12 +168,10 @@ void main() {
     transmit = pow(transmit, 1.0 / 2.2);
     color *= 0.66;
   }
-  // Bright rims at the top edge and the corners, and a bright line where
-  // the water meets the glass.
+  // Bright rims at the top edge and the corners.
   float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
   float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
-  float meniscus = 1.0 - smoothstep(0.0002, 0.0007, abs(v_p.z - surface));
-  float a = clamp(0.45 * rim + 0.3 * meniscus, 0.0, 1.0);
+  float a = 0.45 * rim;
   color = color * (1.0 - a) + vec3(0.9, 0.97, 1.0) * a;
   transmit *= 1.0 - a;
   o_color = vec4(color, 1.0);

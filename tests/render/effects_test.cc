@@ -1017,8 +1017,7 @@ TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
       }
     }
     const cv::Mat out = RenderScene(r.get(), s.inputs);
-    // The paper's level: the band's median (the meniscus line at the
-    // waterline is brighter, the painted line darker).
+    // The paper's level: the band's median (the painted line is darker).
     std::vector<int> levels;
     for (int row : band) levels.push_back(out.at<cv::Vec3b>(row, u)[1]);
     std::nth_element(levels.begin(), levels.begin() + levels.size() / 2,

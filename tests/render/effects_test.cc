@@ -946,6 +946,45 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
 // floor near the front wall (flat water, 640x480) shows at the row that a
 // ray traced through the slab, the surface (Snell) and down to the floor
 // predicts, with the glass 3 mm thick and with it thin, within 0.25 px.
+// Where the surface meets the front glass the image changes only as what
+// the rays meet changes: no line of its own (the reference renderer's flat
+// surface meets the glass without a meniscus). On a uniform grey video the
+// rows around the waterline are no brighter than the rows a few pixels
+// above and below it; the hand-drawn meniscus line read 21 levels brighter.
+TEST(EffectsTest, NoLineWhereTheSurfaceMeetsTheGlass) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+  auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+  std::fill(s.video.begin(), s.video.end(), std::uint8_t{200});
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  const TankGeometry& t = s.inputs.tank;
+  const WaterOptics optics;
+  const int u = static_cast<int>(std::lround(s.k.cx));
+  // The waterline on the glass's outer and inner faces: the line seen
+  // through the slab lies between the two rows.
+  auto row_at = [&](double y) {
+    const glm::dvec4 c =
+        s.inputs.cam_from_tank * glm::dvec4(0.0, y, t.water_level, 1.0);
+    return static_cast<int>(std::lround(s.k.fy * c.y / c.z + s.k.cy));
+  };
+  const int outer = row_at(-0.5 * t.size_y - optics.glass_thickness_m);
+  const int inner = row_at(-0.5 * t.size_y);
+  const int lo = std::min(inner, outer) - 1, hi = std::max(inner, outer) + 1;
+  ASSERT_GT(lo, 10);
+  ASSERT_LT(hi, kH6 - 10);
+  auto level = [&](int y) { return int{out.at<cv::Vec3b>(y, u)[1]}; };
+  int around = 0, at = 0;
+  for (int d = 4; d <= 8; ++d)
+    around = std::max({around, level(lo - d), level(hi + d)});
+  for (int y = lo; y <= hi; ++y) at = std::max(at, level(y));
+  std::printf("waterline rows %d-%d: brightest there %d, 4-8 rows beyond %d\n",
+              lo, hi, at, around);
+  EXPECT_LE(at, around + 3);
+}
+
 TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);

@@ -221,6 +221,17 @@ void ObstacleBoxCorners(const Obstacle& o, glm::dvec3 corners[8]) {
   }
 }
 
+glm::ivec4 ObstaclesRect(const FrameState& f, int pad) {
+  glm::ivec4 r(0);
+  for (const Obstacle& o : f.scene->obstacles) {
+    glm::dvec3 corners[8];
+    ObstacleBoxCorners(o, corners);
+    r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 8, pad, f.k->width,
+                                f.k->height));
+  }
+  return r;
+}
+
 glm::ivec4 OutputWindow(const FrameState& f, int pad) {
   const SceneInputs& scene = *f.scene;
   const TankGeometry& t = scene.tank;
@@ -228,11 +239,7 @@ glm::ivec4 OutputWindow(const FrameState& f, int pad) {
   glm::ivec4 r =
       BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
               std::max<double>(t.wall_height, t.water_level + 0.01), pad, w, h);
-  for (const Obstacle& o : scene.obstacles) {
-    glm::dvec3 corners[8];
-    ObstacleBoxCorners(o, corners);
-    r = UnionRect(r, PointsRect(f.clip_from_tank, corners, 8, pad, w, h));
-  }
+  r = UnionRect(r, ObstaclesRect(f, pad));
   const glm::dvec4& b = f.board_light_rect;
   if (b.x < b.z && b.y < b.w) {
     const glm::dvec3 corners[4] = {

@@ -203,6 +203,10 @@ glm::ivec4 UnionRect(const glm::ivec4& a, const glm::ivec4& b);
 // The tank-frame corners of an obstacle's bounding box.
 void ObstacleBoxCorners(const Obstacle& o, glm::dvec3 corners[8]);
 
+// Window rectangle of every obstacle's bounding box, grown by `pad` pixels
+// (as PointsRect); empty when there is no obstacle.
+glm::ivec4 ObstaclesRect(const FrameState& f, int pad);
+
 // The output's window (x, y, w, h; window pixels, top row first): every
 // pixel a pass can change. That is the tank's box from its floor to the
 // wall tops (or the rest level + 1 cm, if higher) and every obstacle's

@@ -1,7 +1,6 @@
 #include "render/pass_obstacles.h"
 
 #include <algorithm>
-#include <vector>
 
 #include "render/gl_state.h"
 #include "render/shaders.h"
@@ -61,15 +60,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
     // stays where an obstacle lies behind it. Only over the obstacles'
     // rectangle, where it can hide something.
     if (pen_phantom) {
-      std::vector<glm::dvec3> corners;
-      for (const Obstacle& o : scene.obstacles) {
-        glm::dvec3 c[8];
-        ObstacleBoxCorners(o, c);
-        corners.insert(corners.end(), c, c + 8);
-      }
-      const glm::ivec4 rect = PointsRect(f.clip_from_tank, corners.data(),
-                                         static_cast<int>(corners.size()), 1,
-                                         f.k->width, f.k->height);
+      const glm::ivec4 rect = ObstaclesRect(f, 1);
       if (rect.z > 0 && rect.w > 0) {
         state.Enable(GL_SCISSOR_TEST);
         glScissor(rect.x, rect.y, rect.z, rect.w);

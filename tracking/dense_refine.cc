@@ -396,14 +396,15 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   }
   // The starting cost on the chosen templates: the samples informative at
   // each face's level, out of those just taken.
-  rows.erase(std::remove_if(rows.begin(), rows.end(),
-                            [&](const Row& r) {
-                              return !(r.sample->informative &
-                                       MakeBlurLevel(levels[r.face]).mask);
-                            }),
-             rows.end());
-  for (Row& r : rows)
-    r.t = TemplateValue(*r.sample, MakeBlurLevel(levels[r.face]));
+  std::vector<BlurLevel> blur(nf);
+  for (int f = 0; f < nf; ++f) blur[f] = MakeBlurLevel(levels[f]);
+  rows.erase(
+      std::remove_if(rows.begin(), rows.end(),
+                     [&](const Row& r) {
+                       return !(r.sample->informative & blur[r.face].mask);
+                     }),
+      rows.end());
+  for (Row& r : rows) r.t = TemplateValue(*r.sample, blur[r.face]);
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);
   double cost0, rms0;
   int n0;

@@ -84,6 +84,10 @@ void main() {
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
 #endif
   vec3 color = vec3(0.0);
+  // Bright rims at the top edge and the corners.
+  float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
+  float rim = 0.45 * (1.0 - smoothstep(0.0006, 0.0016, edge));
+  const vec3 kRimColor = vec3(0.9, 0.97, 1.0);
   vec3 nrm = normalize(v_n);
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
@@ -150,10 +154,7 @@ void main() {
     vec3 lin = (seen * transmit_w + u_scatter * (1.0 - transmit_w)) *
                    (1.0 - r_glass) +
                sky_seen * r_glass;
-    float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
-    float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
-    o_color =
-        vec4(mix(EncodeOutput(lin), vec3(0.9, 0.97, 1.0), 0.45 * rim), 1.0);
+    o_color = vec4(mix(EncodeOutput(lin), kRimColor, rim), 1.0);
     o_transmit = vec4(0.0);
     return;
   }
@@ -168,12 +169,8 @@ void main() {
     transmit = pow(transmit, 1.0 / 2.2);
     color *= 0.66;
   }
-  // Bright rims at the top edge and the corners.
-  float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
-  float rim = 1.0 - smoothstep(0.0006, 0.0016, edge);
-  float a = 0.45 * rim;
-  color = color * (1.0 - a) + vec3(0.9, 0.97, 1.0) * a;
-  transmit *= 1.0 - a;
+  color = color * (1.0 - rim) + kRimColor * rim;
+  transmit *= 1.0 - rim;
   o_color = vec4(color, 1.0);
   o_transmit = vec4(vec3(transmit), 1.0);
 #endif

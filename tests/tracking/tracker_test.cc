@@ -549,7 +549,8 @@ TEST(TrackerTest, SmoothingBridgesAShortLossOfAPenAtRest) {
       Tracker a(camera, rig, bridged), b(camera, rig, restarted);
       std::mt19937 rng(13 + trial);
       Pose tank_from_pen = TankFromPen(0);
-      Eigen::Vector3d before_a, before_b;
+      Eigen::Vector3d before_a = Eigen::Vector3d::Zero();
+      Eigen::Vector3d before_b = Eigen::Vector3d::Zero();
       for (int f = 0; f < 15; ++f) {
         // Hidden for frames 12-13; moved 5 mm meanwhile when `moved`.
         const bool hidden = f == 12 || f == 13;
@@ -593,7 +594,9 @@ TEST(TrackerTest, SmoothingBridgesAShortLossOfAPenAtRest) {
     // Measured: 0.55 mm bridged, 0.78 mm restarted. The two missing frames
     // fade the filter's memory (weight 0.25 on the new pose), and a
     // re-acquired pose beyond the 1 mm bound still restarts it.
-    if (!moved) EXPECT_LT(jump_a, 0.8 * jump_b);
+    if (!moved) {
+      EXPECT_LT(jump_a, 0.8 * jump_b);
+    }
   }
 }
 

@@ -264,6 +264,7 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   EXPECT_THAT(header, HasSubstr("scene,water_pixels,flip,flip_open_water,"
                                 "flip_no_reflection"));
   int rows = 0;
+  double ring_flip = -1;
   while (std::getline(csv, line)) {
     ++rows;
     std::stringstream ss(line);
@@ -274,6 +275,7 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
     EXPECT_GT(std::stoi(pixels), 100) << line;
     EXPECT_GT(std::stod(flip), 0.0) << line;
     EXPECT_LT(std::stod(flip), 1.0) << line;
+    if (name == "ring") ring_flip = std::stod(flip);
   }
   EXPECT_EQ(rows, 2);
   for (const char* f :
@@ -284,6 +286,38 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
     EXPECT_TRUE(std::filesystem::exists(dir + f)) << f;
   }
   EXPECT_FALSE(std::filesystem::exists(dir + "/scenes/flat/heights.npy"));
+
+  // `ripple bench flip` scores the exported real-time render as the
+  // benchmark did; a reference against itself scores 0.
+  const std::string ring = dir + "/scenes/ring/";
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                ring + "realtime.png --mask " + ring + "water_mask.png --map " +
+                dir + "/ring_flip.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const size_t at = r.output.find("mean ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  EXPECT_NEAR(std::stod(r.output.substr(at + 5)), ring_flip, 1e-4) << r.output;
+  EXPECT_TRUE(std::filesystem::exists(dir + "/ring_flip.png"));
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                ring + "reference.png");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("mean 0.0000, median 0.0000, p95 0.0000"));
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                dir + "/out/ring.png");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr(", the reference 96x72"));
+  r = RunRipple("bench flip --reference " + ring + "scene.yml --test " + ring +
+                "realtime.png");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("not a readable PNG or JPEG"));
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                ring + "realtime.png --mask " + dir + "/missing.png");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("cannot be opened"));
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                ring + "realtime.png --map " + dir + "/no/such/map.png");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("its folder does not exist"));
   r = RunRipple("bench render --scenes puddle --out " + dir + "/bad");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown scene 'puddle'"));

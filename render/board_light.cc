@@ -4,226 +4,10 @@
 #include <cmath>
 
 #include "render/renderer.h"
+#include "render/tank_paths.h"
 
 namespace ripple::render::internal {
 namespace {
-
-constexpr double kInf = 1e30;
-constexpr double kStep = 1e-7;       // metres past an interface
-constexpr double kMinWeight = 1e-3;  // a branch lighter than this ends
-constexpr int kMaxDepth = 24;        // interfaces along one path
-
-enum class Medium { kAirOutside, kAirInside, kGlass, kWater };
-enum class End { kSky, kBoard, kUnderGlass, kFloor };
-
-// The flat tank: inner half sizes a, b; outer A, B; walls H tall; water up
-// to W; refractive indices and the water's absorption per band.
-struct Tank {
-  double a, b, A, B, H, W;
-  double n_water, n_glass;
-  glm::dvec3 sigma;
-};
-
-double IndexOf(const Tank& t, Medium m) {
-  return m == Medium::kWater ? t.n_water
-                             : (m == Medium::kGlass ? t.n_glass : 1.0);
-}
-
-// The next interface or end of a path in one medium.
-struct Event {
-  double t = kInf;
-  glm::dvec3 n{0.0};  // the interface's normal, against the ray
-  Medium next = Medium::kAirOutside;
-  bool interface = true;  // false: the medium changes without one (the
-                          // open top of the tank), or the path ends
-  bool ends = false;
-  End end = End::kSky;
-};
-
-Event NormalAgainst(Event e, int axis, const glm::dvec3& d) {
-  e.n = glm::dvec3(0.0);
-  e.n[axis] = d[axis] > 0 ? -1.0 : 1.0;
-  return e;
-}
-
-// Where o + s d lies inside the box lo..hi over its first `axes` axes:
-// s in (in, out), entering across axis `axis` (-1: no axis bounds it);
-// `in` is kInf when the ray runs parallel to an axis outside the box.
-struct Span {
-  double in = -kInf, out = kInf;
-  int axis = -1;
-};
-Span BoxSpan(const glm::dvec3& o, const glm::dvec3& d, const double* lo,
-             const double* hi, int axes) {
-  Span s;
-  for (int k = 0; k < axes; ++k) {
-    if (d[k] == 0.0) {
-      if (o[k] <= lo[k] || o[k] >= hi[k]) s.in = kInf;
-      continue;
-    }
-    double ta = (lo[k] - o[k]) / d[k], tb = (hi[k] - o[k]) / d[k];
-    if (ta > tb) std::swap(ta, tb);
-    if (ta > s.in) {
-      s.in = ta;
-      s.axis = k;
-    }
-    s.out = std::min(s.out, tb);
-  }
-  return s;
-}
-
-Event AirOutside(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
-  // Entering the outer box [-A, A] x [-B, B] x [0, H].
-  const double lo[3] = {-t.A, -t.B, 0.0}, hi[3] = {t.A, t.B, t.H};
-  const Span box = BoxSpan(o, d, lo, hi, 3);
-  const int axis = box.axis;
-  Event e;
-  if (axis >= 0 && box.in < box.out && box.in > 0.0 && box.in < kInf) {
-    e.t = box.in;
-    const glm::dvec3 p = o + box.in * d;
-    if (axis == 2 && std::abs(p.x) < t.a && std::abs(p.y) < t.b) {
-      e.interface = false;  // down through the open top
-      e.next = Medium::kAirInside;
-      return e;
-    }
-    e.next = Medium::kGlass;
-    return NormalAgainst(e, axis, d);
-  }
-  e.ends = true;
-  if (d.z < 0.0) {
-    e.t = -o.z / d.z;
-    e.end = End::kBoard;
-  } else {
-    e.end = End::kSky;
-  }
-  return e;
-}
-
-// Inside the inner column: to its side faces, and the floor or top.
-Event InColumn(const Tank& t, const glm::dvec3& o, const glm::dvec3& d,
-               bool water) {
-  const double tx = d.x == 0.0 ? kInf : ((d.x > 0 ? t.a : -t.a) - o.x) / d.x;
-  const double ty = d.y == 0.0 ? kInf : ((d.y > 0 ? t.b : -t.b) - o.y) / d.y;
-  const double lower = water ? 0.0 : t.W, upper = water ? t.W : t.H;
-  const double tz = d.z > 0   ? (upper - o.z) / d.z
-                    : d.z < 0 ? (lower - o.z) / d.z
-                              : kInf;
-  Event e;
-  if (tz <= tx && tz <= ty) {
-    e.t = std::max(tz, 0.0);
-    if (water && d.z < 0) {  // the tank's floor
-      e.ends = true;
-      e.end = End::kFloor;
-      return e;
-    }
-    if (!water && d.z > 0) {  // up out of the open top
-      e.interface = false;
-      e.next = Medium::kAirOutside;
-      return e;
-    }
-    e.next = water ? Medium::kAirInside : Medium::kWater;
-    return NormalAgainst(e, 2, d);
-  }
-  e.t = std::max(std::min(tx, ty), 0.0);
-  e.next = Medium::kGlass;
-  return NormalAgainst(e, tx < ty ? 0 : 1, d);
-}
-
-Event InGlass(const Tank& t, const glm::dvec3& o, const glm::dvec3& d) {
-  // Leaving the outer box.
-  const double ex = d.x == 0.0 ? kInf : ((d.x > 0 ? t.A : -t.A) - o.x) / d.x;
-  const double ey = d.y == 0.0 ? kInf : ((d.y > 0 ? t.B : -t.B) - o.y) / d.y;
-  const double ez = d.z > 0 ? (t.H - o.z) / d.z : d.z < 0 ? -o.z / d.z : kInf;
-  const double t_exit = std::max(std::min({ex, ey, ez}), 0.0);
-  // Entering the inner column |x| < a, |y| < b.
-  const double lo[2] = {-t.a, -t.b}, hi[2] = {t.a, t.b};
-  const Span column = BoxSpan(o, d, lo, hi, 2);
-  Event e;
-  if (column.axis >= 0 && column.in < column.out && column.in > 0.0 &&
-      column.in < t_exit) {
-    e.t = column.in;
-    const double z = o.z + column.in * d.z;
-    e.next = z < t.W ? Medium::kWater : Medium::kAirInside;
-    return NormalAgainst(e, column.axis, d);
-  }
-  e.t = t_exit;
-  if (ez <= ex && ez <= ey && d.z < 0) {
-    e.ends = true;
-    e.end = End::kUnderGlass;
-    return e;
-  }
-  e.next = Medium::kAirOutside;
-  return NormalAgainst(e, ex <= ey && ex <= ez ? 0 : (ey <= ez ? 1 : 2), d);
-}
-
-// Follows o + s d from medium m, splitting at every interface, and calls
-// end(kind, point, weight) for each branch that reaches the sky, the board
-// outside, the board under the glass or the tank's floor.
-template <class F>
-void Trace(const Tank& t, glm::dvec3 o, glm::dvec3 d, Medium m, glm::dvec3 w,
-           int depth, F& end) {
-  while (true) {
-    Event e;
-    switch (m) {
-      case Medium::kAirOutside:
-        e = AirOutside(t, o, d);
-        break;
-      case Medium::kAirInside:
-        e = InColumn(t, o, d, false);
-        break;
-      case Medium::kWater:
-        e = InColumn(t, o, d, true);
-        break;
-      case Medium::kGlass:
-        e = InGlass(t, o, d);
-        break;
-    }
-    if (m == Medium::kWater) {
-      const double s = std::min(e.t, 1.0);
-      w *= glm::dvec3(std::exp(-t.sigma.x * s), std::exp(-t.sigma.y * s),
-                      std::exp(-t.sigma.z * s));
-    }
-    if (e.ends) {
-      end(e.end, e.end == End::kSky ? o : o + e.t * d, w);
-      return;
-    }
-    const glm::dvec3 p = o + e.t * d;
-    if (!e.interface) {
-      o = p + kStep * d;
-      m = e.next;
-      continue;
-    }
-    if (++depth > kMaxDepth) return;
-    const double n1 = IndexOf(t, m), n2 = IndexOf(t, e.next);
-    const double ci = -glm::dot(d, e.n);
-    const double f = FresnelReflectance(ci, n1, n2);
-    const glm::dvec3 r = d + 2.0 * ci * e.n;
-    if (f < 1.0 && (1.0 - f) * std::max({w.x, w.y, w.z}) > kMinWeight) {
-      const double eta = n1 / n2;
-      const double k = 1.0 - eta * eta * (1.0 - ci * ci);
-      const glm::dvec3 tr = eta * d + (eta * ci - std::sqrt(k)) * e.n;
-      Trace(t, p + kStep * tr, tr, e.next, w * (1.0 - f), depth, end);
-    }
-    w *= f;
-    if (std::max({w.x, w.y, w.z}) <= kMinWeight) return;
-    o = p + kStep * r;
-    d = r;
-  }
-}
-
-Tank MakeTank(const TankGeometry& g, const WaterOptics& o) {
-  Tank t;
-  t.a = 0.5 * g.size_x;
-  t.b = 0.5 * g.size_y;
-  t.A = t.a + o.glass_thickness_m;
-  t.B = t.b + o.glass_thickness_m;
-  t.H = g.wall_height;
-  t.W = std::clamp(static_cast<double>(g.water_level), 1e-6, t.H - 1e-6);
-  t.n_water = o.ior;
-  t.n_glass = o.glass_ior;
-  t.sigma = glm::dvec3(o.absorption_per_m);
-  return t;
-}
 
 glm::dvec3 TexelCentre(const BoardLightMap& m, int i, int j) {
   return {m.origin.x + (i + 0.5) * m.texel, m.origin.y + (j + 0.5) * m.texel,
@@ -295,7 +79,7 @@ BoardLightMap BoardLightLayout(const TankGeometry& tank,
 
 void ComputeBoardSkyView(const TankGeometry& tank, const WaterOptics& optics,
                          const BoardLightOptions& options, BoardLightMap* map) {
-  const Tank t = MakeTank(tank, optics);
+  const PathTank t = MakePathTank(tank, optics);
   // An even side, so the set is its own mirror image in x and in y.
   const int side =
       std::max(2, 2 * (static_cast<int>(std::sqrt(options.sky_rays)) / 2));
@@ -346,24 +130,25 @@ void ComputeBoardSkyView(const TankGeometry& tank, const WaterOptics& optics,
       }
       glm::dvec3 sky(0.0);
       double board = 0, floor = 0, under = 0;
-      auto end = [&](End kind, const glm::dvec3&, const glm::dvec3& w) {
+      auto end = [&](PathEnd kind, const glm::dvec3&, const glm::dvec3& w,
+                     PathEntry) {
         switch (kind) {
-          case End::kSky:
+          case PathEnd::kSky:
             sky += w;
             break;
-          case End::kBoard:
+          case PathEnd::kBoard:
             board += w.y;
             break;
-          case End::kFloor:
+          case PathEnd::kFloor:
             floor += w.y;
             break;
-          case End::kUnderGlass:
+          case PathEnd::kUnderGlass:
             under += w.y * glass_scale;
             break;
         }
       };
       for (const glm::dvec3& d : dirs) {
-        Trace(t, p, d, Medium::kAirOutside, glm::dvec3(1.0), 0, end);
+        TracePath(t, p, d, PathMedium::kAirOutside, glm::dvec3(1.0), end);
       }
       for (const int jj : {j, view.ny - 1 - j}) {
         for (const int ii : {i, view.nx - 1 - i}) {
@@ -382,7 +167,7 @@ void ComputeBoardDirectLight(const TankGeometry& tank,
                              const WaterOptics& optics, const glm::dvec3& light,
                              const BoardLightOptions& options,
                              BoardLightMap* map) {
-  const Tank t = MakeTank(tank, optics);
+  const PathTank t = MakePathTank(tank, optics);
   const glm::dvec3 l = glm::normalize(light);
   const size_t n = static_cast<size_t>(map->nx) * map->ny;
   // The light deposited, and the open board's share of each texel: the
@@ -412,8 +197,10 @@ void ComputeBoardDirectLight(const TankGeometry& tank,
       }
     }
   };
-  auto end = [&](End kind, const glm::dvec3& p, const glm::dvec3& w) {
-    if (kind == End::kBoard && !map->InFootprint(p.x, p.y)) splat(p, w, false);
+  auto end = [&](PathEnd kind, const glm::dvec3& p, const glm::dvec3& w,
+                 PathEntry) {
+    if (kind == PathEnd::kBoard && !map->InFootprint(p.x, p.y))
+      splat(p, w, false);
   };
   // A lattice of k x k points per texel, offset so that its bilinear splat
   // on the open board is uniform (one texel beyond the map on each side, so
@@ -426,7 +213,8 @@ void ComputeBoardDirectLight(const TankGeometry& tank,
       const glm::dvec3 q(map->origin.x + (i + 0.5) * step,
                          map->origin.y + (j + 0.5) * step, 0.0);
       if (!map->InFootprint(q.x, q.y)) splat(q, glm::dvec3(1.0), true);
-      Trace(t, q + rise * l, -l, Medium::kAirOutside, glm::dvec3(1.0), 0, end);
+      TracePath(t, q + rise * l, -l, PathMedium::kAirOutside, glm::dvec3(1.0),
+                end);
     }
   }
   map->direct.assign(n, glm::vec3(0.0f));

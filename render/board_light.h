@@ -16,10 +16,7 @@
 // The tank: glass walls `glass_thickness_m` thick outside the inner size,
 // wall_height tall, standing on the board, water at rest up to water_level
 // inside (a flat surface: the waves' own light outside the tank is left
-// out). Paths are followed through every interface, splitting by the exact
-// (unpolarised) Fresnel reflectance, with total internal reflection and
-// Beer-Lambert absorption in the water, until their weight falls under
-// 1e-3.
+// out). Paths are followed through every interface (tank_paths.h).
 #ifndef RIPPLE_RENDER_BOARD_LIGHT_H_
 #define RIPPLE_RENDER_BOARD_LIGHT_H_
 

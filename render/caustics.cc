@@ -251,7 +251,7 @@ struct CausticsWorkspace::Buffers {
   std::vector<float> walls;
   std::vector<float> near_gain, near_add;  // NearWallGlassMaps
   std::vector<std::uint32_t> near_texels;  // where they are not 1 and 0
-  std::array<double, 12> walls_key{};
+  std::array<double, 16> walls_key{};
   bool walls_valid = false;
   double walls_flux = 0;
   std::vector<float> hc;
@@ -291,6 +291,15 @@ bool CausticsOptions::IsValid(std::string* error) const {
     if (error) *error = "caustics: attenuation >= 0 and threads >= 1";
     return false;
   }
+  if (!(glass_ior >= 1.0) ||
+      !(glass_thickness_m >= 0 && glass_thickness_m <= 0.05) ||
+      glass_paths_per_axis < 1 || glass_paths_per_axis > 16) {
+    if (error)
+      *error =
+          "caustics: glass ior >= 1, thickness in [0, 0.05] m and 1-16 paths "
+          "per axis";
+    return false;
+  }
   return true;
 }
 
@@ -300,7 +309,7 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
               const glm::dvec3& l, CausticsWorkspace::Buffers* ws,
               std::vector<float>* map, CausticsSummary* summary) {
   if (!o.light_through_walls && !o.glass_near_walls) return;
-  const std::array<double, 12> key = {tank.size_x,
+  const std::array<double, 16> key = {tank.size_x,
                                       tank.size_y,
                                       tank.water_level,
                                       tank.wall_height,
@@ -311,21 +320,26 @@ void AddWalls(const CausticsOptions& o, const TankGeometry& tank,
                                       o.glass_ior,
                                       o.attenuation_per_m,
                                       double(o.map_nx),
-                                      double(o.map_ny)};
-  // Both maps depend on the tank and the light only: cached.
+                                      double(o.map_ny),
+                                      o.glass_thickness_m,
+                                      double(o.glass_paths_per_axis),
+                                      double(o.light_through_walls),
+                                      double(o.glass_near_walls)};
+  // The maps depend on the tank and the light only: cached.
   if (!ws->walls_valid || ws->walls_key != key) {
     ws->walls.assign(map->size(), 0.0f);
     ws->walls_flux = 0;
+    ws->near_gain.assign(map->size(), 1.0f);
+    ws->near_add.assign(map->size(), 0.0f);
     if (o.light_through_walls) {
       ws->walls_flux = caustics_internal::AddWallLight(
           tank, l, o.ior, o.glass_ior, o.attenuation_per_m, o.map_nx, o.map_ny,
           ws->walls.data());
     }
-    ws->near_gain.assign(map->size(), 1.0f);
-    ws->near_add.assign(map->size(), 0.0f);
     if (o.glass_near_walls) {
       caustics_internal::NearWallGlassMaps(
-          tank, l, o.ior, o.glass_ior, o.map_nx, o.map_ny, ws->near_gain.data(),
+          tank, o.glass_thickness_m, l, o.ior, o.glass_ior, o.attenuation_per_m,
+          o.map_nx, o.map_ny, o.glass_paths_per_axis, ws->near_gain.data(),
           ws->near_add.data());
     }
     // Only texels near the walls differ: a list keeps the per-frame pass

@@ -35,20 +35,22 @@ struct CausticsOptions {
   // normalised by the flat-water path so that flat water reads 1.
   double attenuation_per_m = 0.0;
   int threads = 1;  // CPU threads; each adds a private accumulation map
-  // Light entering through the glass side walls below the waterline also
-  // reaches the floor (the strip along the walls facing the light, which the
-  // surface's refracted light misses). Added analytically per texel for the
-  // rest level (4x4 samples per texel), scaled by the walls' Fresnel
-  // transmittance (air-glass-water, a thin slab) over the flat surface's.
+  // The glass walls: light_through_walls adds the light that enters the
+  // water through them (the strip along the walls facing an oblique light,
+  // which the surface's refracted light misses, is lit through them;
+  // analytically per texel for the rest level); glass_near_walls applies
+  // what the glass does to the surface's light (the glass above the water
+  // transmits it, reflects it onto the surface near the wall facing away,
+  // and its top face turns part of it away; below the water the wall facing
+  // away mirrors back what the surface sent beyond it), light-traced through
+  // slabs `glass_thickness_m` thick with `glass_paths_per_axis`^2 paths per
+  // texel (caustics_kernels.h, NearWallGlassMaps). Both are computed once
+  // per tank, light and map.
   bool light_through_walls = true;
-  // Near the walls the glass also changes the light that came through the
-  // surface (for the rest level, per texel): the part of a wall above the
-  // water that faces the light transmits it as a glass slab in air, the
-  // opposite wall's part above the water reflects light onto the surface,
-  // and the opposite wall below the water mirrors back what the surface
-  // sent beyond it (total internal reflection at the glass-air face).
   bool glass_near_walls = true;
   double glass_ior = 1.5;
+  double glass_thickness_m = 0.003;
+  int glass_paths_per_axis = 4;
   // Angular radius of the light's disc (radians): every direction within it
   // lights the floor with the same pattern, moved by the shift of its
   // refracted ray over the rest depth, so the map is convolved with that
@@ -74,8 +76,7 @@ struct CausticsSummary {
   double flux_deposited = 0;
   double flux_outside = 0;
   // Deposited in the map by the light through the walls (not in the three
-  // above), in the same units times the walls' over the surface's Fresnel
-  // transmittance.
+  // above), in the same units, relative to flat water's transmittance.
   double flux_walls = 0;
   // What the glass near the walls (glass_near_walls) added to the
   // surface's light in the map (negative where it dims more than it adds),

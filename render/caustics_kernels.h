@@ -154,23 +154,37 @@ void Resolve(bool simd, AccumBuffer* buf, int y_first, int y_last, float* col_c,
 void FlatSurfaceMap(const TankGeometry& tank, const glm::dvec3& l, double ior,
                     int mx, int my, float* map);
 
-// The glass's effect on the surface's light near the walls, for the rest
-// level (caustics_walls.cc; CausticsOptions::glass_near_walls), per texel:
-// `gain` multiplies the light that entered through the surface (a wall
-// facing the light transmits it through its part above the water as a
-// glass slab in air, (1 - R) / (1 + R); a wall facing away reflects light
-// onto the surface near it, 2R / (1 + R)); `add` is the light the surface
-// sent beyond a wall facing away, mirrored back onto the floor by the wall
-// below the water (water-glass, then glass-air: total beyond the critical
-// angle). Both are filled over the whole map (gain 1 and add 0 away from
-// the walls).
-void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
-                       double ior, double glass_ior, int mx, int my,
-                       float* gain, float* add);
+// What the glass walls do to the surface's light near them, for the rest
+// level, per texel, light-traced through the tank with its glass slabs
+// `glass_thickness_m` thick (tank_paths.h) from the centre of the light's
+// disc, `paths_per_axis`^2 paths per texel, relative to flat open water's
+// light (caustics_walls.cc; CausticsOptions::glass_near_walls):
+// - `gain` multiplies the light the surface refracts straight onto the floor
+//   (the surface's map): the glass above the water transmits part of it,
+//   reflects some onto the surface near the wall facing away, and turns
+//   away what meets a wall's top face (total reflection guides it down the
+//   slab), which leaves a dark line along the walls facing the light. Where
+//   the surface's map holds a quarter of a texel or less, the gain is 0 and
+//   that light is in `add`;
+// - `add`: the surface's light that a wall then sent back onto the floor
+//   (below the water a wall facing away mirrors it, the glass-air face
+//   totally beyond its critical angle; a thick slab shifts it down, so it
+//   lands nearer the wall, and what reaches the slab's foot is lost to the
+//   floor).
+// Texels farther from every wall than the glass can reach keep gain 1 and
+// add 0; both are overwritten over the whole map. Returns the change of
+// the surface's light in flux (CausticsSummary's units).
+double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
+                         const glm::dvec3& l, double ior, double glass_ior,
+                         double attenuation_per_m, int mx, int my,
+                         int paths_per_axis, float* gain, float* add);
 
 // Adds the relative irradiance of the light entering through the side walls
-// below the rest level (caustics_walls.cc; CausticsOptions). Returns the
-// flux added, in CausticsSummary's units.
+// below the rest level (caustics_walls.cc; CausticsOptions), analytically
+// per texel (4 x 4 samples). A slab of any thickness gives the same light
+// on the floor: what leaves its inner face below the water entered the
+// outer face higher up, so the inner face passes the same beam, moved
+// along the wall. Returns the flux added, in CausticsSummary's units.
 double AddWallLight(const TankGeometry& tank, const glm::dvec3& l, double ior,
                     double glass_ior, double attenuation_per_m, int mx, int my,
                     float* map);

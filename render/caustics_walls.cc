@@ -1,10 +1,11 @@
 // The parts of the caustics map that need no surface mesh: flat water's
-// lit area, and the light that enters through the glass side walls.
+// lit area, and what the glass walls change near them.
 #include <algorithm>
 #include <cmath>
 
 #include "render/caustics_kernels.h"
 #include "render/optics.h"
+#include "render/tank_paths.h"
 
 namespace ripple::render::caustics_internal {
 namespace {
@@ -110,101 +111,154 @@ double AddWallLight(const TankGeometry& tank, const glm::dvec3& l, double ior,
   return flux;
 }
 
-void NearWallGlassMaps(const TankGeometry& tank, const glm::dvec3& l,
-                       double ior, double glass_ior, int mx, int my,
-                       float* gain, float* add) {
+double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
+                         const glm::dvec3& l, double ior, double glass_ior,
+                         double attenuation_per_m, int mx, int my,
+                         int paths_per_axis, float* gain, float* add) {
   const size_t n = static_cast<size_t>(mx) * my;
   std::fill(gain, gain + n, 1.0f);
   std::fill(add, add + n, 0.0f);
+  double flux = 0;
   const glm::dvec3 d = -l;  // travel direction of the light
   const glm::dvec3 t = glm::refract(d, glm::dvec3(0, 0, 1), 1.0 / ior);
-  if (!(t.z < -1e-9) || !(l.z > 1e-9)) return;
-  const double h[2] = {0.5 * tank.size_x, 0.5 * tank.size_y};
-  // Flat water moves the light by `shift` from the surface to the floor.
-  const double shift[2] = {tank.water_level * t.x / -t.z,
-                           tank.water_level * t.y / -t.z};
-  const double above = tank.wall_height - tank.water_level;
-  // A glass slab in air at cos_i, with its internal reflections summed
-  // (incoherently): R_slab = 2R / (1 + R), T_slab = (1 - R) / (1 + R).
-  auto slab_r = [&](double cos_i) {
-    const double r = FresnelReflectance(cos_i, 1.0, glass_ior);
-    return 2.0 * r / (1.0 + r);
-  };
-  const double la[2] = {l.x, l.y};
-  // Transmittance of the glass above the water on the light arriving at
-  // surface point s from above: a wall facing the light (at side * h) is
-  // crossed when the ray towards the light meets it below its top.
-  auto transmitted = [&](const double s[2]) {
-    double g = 1.0;
-    for (int a = 0; a < 2; ++a) {
-      if (std::abs(la[a]) < 1e-9) continue;
-      const double side = la[a] > 0 ? 1.0 : -1.0;
-      const double u = (side * h[a] - s[a]) / la[a];
-      if (u >= 0 && u * l.z < above &&
-          std::abs(s[1 - a] + u * la[1 - a]) <= h[1 - a])
-        g *= 1.0 - slab_r(std::abs(la[a]));
-    }
-    return g;
-  };
-  // The light reflected onto surface point s by the wall facing away along
-  // axis a (at -side * h), above the water: it arrives mirrored in a.
-  auto reflected = [&](const double s[2], int a) {
-    if (std::abs(la[a]) < 1e-9) return 0.0;
-    const double side = la[a] > 0 ? 1.0 : -1.0;
-    const double v = (side * h[a] + s[a]) / la[a];
-    const bool hits = v >= 0 && v * l.z < above &&
-                      std::abs(s[1 - a] + v * la[1 - a]) <= h[1 - a];
-    return hits ? slab_r(std::abs(la[a])) : 0.0;
-  };
+  if (!(t.z < -1e-9) || !(l.z > 1e-9)) return flux;
+  const internal::PathTank tk = internal::MakePathTank(
+      tank, glass_thickness_m, ior, glass_ior, glm::dvec3(attenuation_per_m));
+  // Flat open water's light on the floor, per unit of the light's
+  // irradiance on a plane facing it: l.z T_surface exp(-sigma level / |t_z|).
+  const double open = (1.0 - FresnelReflectance(l.z, 1.0, ior)) *
+                      std::exp(-attenuation_per_m * tk.W / -t.z);
+  const double h[2] = {tk.a, tk.b};
   const double cell[2] = {tank.size_x / mx, tank.size_y / my};
-  constexpr int kSub = 4;
-  // Only texels near a wall can differ: within the light's run above the
-  // water plus the shift of any wall.
-  const double reach_x = above * std::abs(l.x) / l.z + std::abs(shift[0]);
-  const double reach_y = above * std::abs(l.y) / l.z + std::abs(shift[1]);
-  for (int j = 0; j < my; ++j) {
-    for (int i = 0; i < mx; ++i) {
-      const double x0 = -h[0] + i * cell[0], y0 = -h[1] + j * cell[1];
-      const bool near = x0 < -h[0] + reach_x + cell[0] ||
-                        x0 + cell[0] > h[0] - reach_x - cell[0] ||
-                        y0 < -h[1] + reach_y + cell[1] ||
-                        y0 + cell[1] > h[1] - reach_y - cell[1];
-      if (!near) continue;
-      double g_sum = 0, a_sum = 0;
-      for (int sj = 0; sj < kSub; ++sj) {
-        for (int si = 0; si < kSub; ++si) {
-          const double f[2] = {x0 + (si + 0.5) * cell[0] / kSub,
-                               y0 + (sj + 0.5) * cell[1] / kSub};
-          const double sp[2] = {f[0] - shift[0], f[1] - shift[1]};
-          g_sum += transmitted(sp);
-          for (int a = 0; a < 2; ++a) {
-            // Light reflected by the wall facing away: mirrored in a, so it
-            // reaches f from the surface point shifted the other way.
-            double sr[2] = {sp[0], sp[1]};
-            sr[a] = f[a] + shift[a];
-            if (std::abs(sr[0]) < h[0] && std::abs(sr[1]) < h[1])
-              a_sum += reflected(sr, a);
-            // The light that would land beyond the wall facing away (its
-            // mirror image of f) and came through the surface inside: the
-            // wall below the water mirrors it back onto f.
-            if (std::abs(shift[a]) < 1e-12) continue;
-            const double wall = shift[a] > 0 ? h[a] : -h[a];
-            double m[2] = {f[0], f[1]};
-            m[a] = 2.0 * wall - f[a];
-            const double sm[2] = {m[0] - shift[0], m[1] - shift[1]};
-            if (std::abs(sm[0]) < h[0] && std::abs(sm[1]) < h[1]) {
-              const double cos_w = std::abs(a == 0 ? t.x : t.y);
-              a_sum +=
-                  SideWallReflectance(cos_w, ior, glass_ior) * transmitted(sm);
-            }
-          }
-        }
+  // How far from a wall the glass can change the surface's light, per axis:
+  // the light's run over the wall above the water, the refracted light's
+  // over the water's depth, the glass and two texels.
+  const double la[2] = {l.x, l.y};
+  double reach[2];
+  for (int a = 0; a < 2; ++a) {
+    reach[a] = (tk.H - tk.W) * std::abs(la[a]) / l.z +
+               tk.W * std::abs(a == 0 ? t.x : t.y) / -t.z + glass_thickness_m +
+               2.0 * cell[a];
+  }
+  auto near_texel = [&](int i, int j, double grow) {
+    const double x = -h[0] + (i + 0.5) * cell[0];
+    const double y = -h[1] + (j + 0.5) * cell[1];
+    return h[0] - std::abs(x) < reach[0] + grow * cell[0] ||
+           h[1] - std::abs(y) < reach[1] + grow * cell[1];
+  };
+  // Per texel, in units of one path: the light by how it came into the
+  // water (PathEntry), and `flat`, where the same paths would land without
+  // the glass. Splatted bilinearly at the texel centres, so that a lattice
+  // of k x k paths per texel gives exactly k^2 wherever it lands evenly.
+  std::vector<double> surface(n, 0.0), mirrored(n, 0.0), flat(n, 0.0);
+  auto splat = [&](std::vector<double>* map, double x, double y, double w) {
+    const double u = (x + h[0]) / cell[0] - 0.5, v = (y + h[1]) / cell[1] - 0.5;
+    const int i0 = static_cast<int>(std::floor(u));
+    const int j0 = static_cast<int>(std::floor(v));
+    const double fu = u - i0, fv = v - j0;
+    for (int dj = 0; dj < 2; ++dj) {
+      for (int di = 0; di < 2; ++di) {
+        // The floor's edge texels keep what lands beyond their centres.
+        const int i = std::clamp(i0 + di, 0, mx - 1);
+        const int j = std::clamp(j0 + dj, 0, my - 1);
+        (*map)[static_cast<size_t>(j) * mx + i] +=
+            w * (di ? fu : 1 - fu) * (dj ? fv : 1 - fv);
       }
-      const size_t at = static_cast<size_t>(j) * mx + i;
-      gain[at] = static_cast<float>(g_sum / (kSub * kSub));
-      add[at] = static_cast<float>(a_sum / (kSub * kSub));
+    }
+  };
+  auto end = [&](internal::PathEnd kind, const glm::dvec3& p,
+                 const glm::dvec3& w, internal::PathEntry entry) {
+    if (kind != internal::PathEnd::kFloor) return;
+    switch (entry) {
+      case internal::PathEntry::kSurface:
+        splat(&surface, p.x, p.y, w.x);
+        break;
+      case internal::PathEntry::kSurfaceThenGlass:
+        splat(&mirrored, p.x, p.y, w.x);
+        break;
+      case internal::PathEntry::kWall:  // AddWallLight's, analytically
+      case internal::PathEntry::kNone:
+        break;
+    }
+  };
+  // Paths aimed at a lattice of k x k points per texel on the board's plane
+  // (where each would land without the tank), over the tank's footprint and
+  // the light's run over the walls' height beyond it. A path that meets no
+  // glass and lands two texels or more beyond the walls' reach adds the
+  // same to `surface` and `flat` of texels that are not written: such paths
+  // are not traced.
+  const int k = std::max(1, paths_per_axis);
+  const double step[2] = {cell[0] / k, cell[1] / k};
+  const double rise = (tk.H + 0.001) / l.z;
+  const double margin[2] = {tk.H * std::abs(la[0]) / l.z + glass_thickness_m,
+                            tk.H * std::abs(la[1]) / l.z + glass_thickness_m};
+  const int n0[2] = {static_cast<int>(std::ceil((h[0] + margin[0]) / step[0])),
+                     static_cast<int>(std::ceil((h[1] + margin[1]) / step[1]))};
+  const double shift[2] = {tk.W * t.x / -t.z, tk.W * t.y / -t.z};
+  for (int jj = -n0[1]; jj < n0[1]; ++jj) {
+    for (int ii = -n0[0]; ii < n0[0]; ++ii) {
+      const glm::dvec3 q((ii + 0.5) * step[0], (jj + 0.5) * step[1], 0.0);
+      // Without the glass: the light crosses the walls' top height at
+      // `top`, the surface at `s` and lands at `f`.
+      const double top[2] = {q.x + tk.H * l.x / l.z, q.y + tk.H * l.y / l.z};
+      const double s[2] = {q.x + tk.W * l.x / l.z, q.y + tk.W * l.y / l.z};
+      const double f[2] = {s[0] + shift[0], s[1] + shift[1]};
+      bool plain = true;
+      for (int a = 0; a < 2; ++a) {
+        plain = plain && std::abs(top[a]) < h[a] && std::abs(s[a]) < h[a] &&
+                std::abs(f[a]) < h[a];
+      }
+      if (plain) {
+        const int i = static_cast<int>(std::floor((f[0] + h[0]) / cell[0]));
+        const int j = static_cast<int>(std::floor((f[1] + h[1]) / cell[1]));
+        if (!near_texel(i, j, 2.0)) continue;
+      }
+      // A path into a wall's outer face below the water goes on into the
+      // water below it (AddWallLight's light) or back out: not traced.
+      bool into_wall = false;
+      for (int a = 0; a < 2 && !into_wall; ++a) {
+        if (std::abs(la[a]) < 1e-12) continue;
+        const double face = std::copysign(h[a] + glass_thickness_m, la[a]);
+        const double z = (face - q[a]) * l.z / la[a];
+        const double across = q[1 - a] + z * la[1 - a] / l.z;
+        into_wall = z >= 0 && z < tk.W &&
+                    std::abs(across) < h[1 - a] + glass_thickness_m;
+      }
+      if (into_wall) continue;
+      if (std::abs(s[0]) < h[0] && std::abs(s[1]) < h[1] &&
+          std::abs(f[0]) < h[0] && std::abs(f[1]) < h[1])
+        splat(&flat, f[0], f[1], 1.0);
+      internal::TracePath(tk, q + rise * l, d,
+                          internal::PathMedium::kAirOutside, glm::dvec3(1.0),
+                          end);
     }
   }
+  // Relative to flat open water: a path carries the light of step_x step_y
+  // of the board's plane, l.z times it in the open.
+  const double per_path = 1.0 / (k * k * open);
+  const double texel_flux = cell[0] * cell[1] * l.z;
+  const double full = k * k;
+  for (int j = 0; j < my; ++j) {
+    for (int i = 0; i < mx; ++i) {
+      if (!near_texel(i, j, 0.0)) continue;
+      const size_t at = static_cast<size_t>(j) * mx + i;
+      const double sf = surface[at] * per_path;
+      const double mf = mirrored[at] * per_path;
+      // The surface's own light carries the waves' caustics: it stays a
+      // gain on the surface's map where the glass-free paths fill a fair
+      // share of the texel; elsewhere it is added as it lands under flat
+      // water.
+      if (flat[at] > 0.25 * full) {
+        gain[at] = static_cast<float>(sf / (flat[at] / full));
+        add[at] = static_cast<float>(mf);
+      } else {
+        gain[at] = 0.0f;
+        add[at] = static_cast<float>(sf + mf);
+      }
+      flux += (sf + mf - flat[at] / full) * texel_flux;
+    }
+  }
+  return flux;
 }
 
 }  // namespace ripple::render::caustics_internal

@@ -40,6 +40,7 @@ bool CausticsPass::Trace(const SceneInputs& scene, double* ms) {
   co.attenuation_per_m = options_.attenuation_per_m;
   co.ior = options_.ior;
   co.glass_ior = options_.glass_ior;
+  co.glass_thickness_m = options_.glass_thickness_m;
   co.light_angular_radius_rad = options_.light_angular_radius_rad;
   const HeightFieldView& surface = scene.caustics_water.heights != nullptr
                                        ? scene.caustics_water

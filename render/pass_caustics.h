@@ -35,7 +35,8 @@ class CausticsPass {
     // (Nishita's attenuation along the refracted path).
     double attenuation_per_m = 0.0;
     double ior = 1.333;      // water
-    double glass_ior = 1.5;  // walls (light through them, CausticsOptions)
+    double glass_ior = 1.5;  // walls (CausticsOptions)
+    double glass_thickness_m = 0.003;
     double light_angular_radius_rad = 0.0;  // the light's disc (penumbra)
   };
   void Create(const Options& options);

@@ -178,6 +178,7 @@ bool Renderer::Impl::Init(std::string* error) {
   caustics_options.attenuation_per_m = (sigma.x + sigma.y + sigma.z) / 3.0;
   caustics_options.ior = o.optics.ior;
   caustics_options.glass_ior = o.optics.glass_ior;
+  caustics_options.glass_thickness_m = o.optics.glass_thickness_m;
   caustics_options.light_angular_radius_rad = o.optics.light_angular_radius_rad;
   const bool srgb = o.video_transfer == Transfer::kSrgb;
   const internal::ObstaclesPass::Options obstacles_options{

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <vector>
 
@@ -112,6 +113,7 @@ TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
   CausticsSummary sum;
   CausticsOptions o;
   o.glass_near_walls = false;  // the light through the walls alone
+  o.glass_thickness_m = 1e-6;  // the thin slab's limit
   ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &map, &sum));
   const double n = 1.333, ng = 1.5;
   const double cos_i = l.x;
@@ -148,18 +150,19 @@ TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
               2e-3 * sum.flux_walls);
 }
 
-// The glass near the walls, flat water, light in the x-z plane: the +x
-// wall's glass above the water transmits the light reaching a band of
-// surface as a slab in air, (1 - R) / (1 + R); the -x wall's glass above the
-// water reflects 2R / (1 + R) onto a band of the same width; below the water
-// the -x wall mirrors back, totally, the light the surface sends beyond it,
-// so the strip along it reads 2. The two bands cancel in flux: what is added
-// is the light that would land beyond the -x wall.
+// The glass near the walls in the thin slab's limit, flat water, light in
+// the x-z plane: the +x wall's glass above the water transmits the light
+// reaching a band of surface as a slab in air, (1 - R) / (1 + R); the -x wall's
+// glass above the water reflects 2R / (1 + R) onto a band of the same width;
+// below the water the -x wall mirrors back, totally, the light the surface
+// sends beyond it, so the strip along it reads 2. The two bands cancel in flux:
+// what is added is the light that would land beyond the -x wall.
 TEST(CausticsTest, GlassNearTheWallsFollowsTheSlabFormulas) {
   const TankGeometry tank;
   const glm::dvec3 l = glm::normalize(glm::dvec3(0.35, 0.0, 1.0));
   CausticsOptions o;
   o.light_through_walls = false;
+  o.glass_thickness_m = 1e-6;  // the thin slab's limit
   std::vector<float> map;
   CausticsSummary sum;
   ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &map, &sum));
@@ -178,17 +181,19 @@ TEST(CausticsTest, GlassNearTheWallsFollowsTheSlabFormulas) {
   for (int a = 0; a < 256; ++a) {
     const double x0 = -h + a * texel, x1 = x0 + texel;
     const float v = map[b * 256 + a];
+    // A texel wholly inside, and a texel from each edge (the glass's maps
+    // are splatted bilinearly).
     auto inside = [&](double lo, double hi) {
-      return x0 > lo + 1e-9 && x1 < hi - 1e-9;
+      return x0 > lo + texel && x1 < hi - texel;
     };
     if (inside(-h, -h + shift)) {
-      EXPECT_NEAR(v, 2.0, 1e-5) << a;  // mirrored by total reflection
+      EXPECT_NEAR(v, 2.0, 5e-3) << a;  // mirrored by total reflection
       ++checked[0];
     } else if (inside(-h + shift, -h + shift + band)) {
-      EXPECT_NEAR(v, 1.0 + r_slab, 1e-5) << a;  // reflected from above
+      EXPECT_NEAR(v, 1.0 + r_slab, 5e-3) << a;  // reflected from above
       ++checked[1];
     } else if (inside(h - shift - band, h - shift)) {
-      EXPECT_NEAR(v, 1.0 - r_slab, 1e-5) << a;  // through the glass
+      EXPECT_NEAR(v, 1.0 - r_slab, 5e-3) << a;  // through the glass
       ++checked[2];
     } else if (inside(-h + shift + band, h - shift - band)) {
       EXPECT_NEAR(v, 1.0, 1e-6) << a;
@@ -206,6 +211,83 @@ TEST(CausticsTest, GlassNearTheWallsFollowsTheSlabFormulas) {
   ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &plain, &sum));
   EXPECT_NEAR(plain[b * 256 + 2], 1.0, 1e-6);
   EXPECT_EQ(sum.flux_near_walls, 0.0);
+}
+
+// Glass 3 mm thick, flat water, light in the x-z plane. Below the water the
+// -x wall mirrors the surface's light by total reflection at its outer face,
+// but the round trip through the slab moves it down by
+// dz = 2 thickness |g_z / g_x| (g the direction in the glass), so only what
+// meets the inner face above dz comes back into the water: the doubled strip
+// narrows from level tan(theta_t) to (level - dz) tan(theta_t); beyond it
+// only the water-glass face's own reflection R_wg is added. Above the water
+// the +x wall's top face turns away the light it takes in (total reflection
+// at the inner face guides it down the slab), and the light through the
+// outer face drops by the slab's dz_a = thickness |g_z / g_x| on the way
+// through: a band of the surface dz_a l_x / l_z wide, ending where the
+// light grazes the wall's top, gets none, and the floor a dark line there,
+// moved by the refraction's shift. Thin glass only dims that band as a slab
+// in air.
+TEST(CausticsTest, ThickGlassNarrowsTheMirrorAndShadesTheTopFace) {
+  const TankGeometry tank;
+  const glm::dvec3 l = glm::normalize(glm::dvec3(0.5, 0.0, 1.0));
+  const double n = 1.333, ng = 1.5, g = 0.003;
+  const double h = 0.5 * tank.size_x, texel = tank.size_x / 256;
+  const double sin_t = std::sqrt(1 - l.z * l.z) / n;
+  const double tan_t = sin_t / std::sqrt(1 - sin_t * sin_t);
+  const double shift = tank.water_level * tan_t;
+  // The mirror: in the glass, n g_z = n cos(theta_t) (tangential).
+  const double gz = n * std::sqrt(1 - sin_t * sin_t) / ng;
+  const double dz = 2 * g * gz / std::sqrt(1 - gz * gz);
+  const double strip = (tank.water_level - dz) * tan_t;
+  const double r_wg = FresnelReflectance(sin_t, n, ng);
+  // The top face's shade on the surface and on the floor (from the +x wall).
+  const double gz_air = l.z / ng;
+  const double dz_air = g * gz_air / std::sqrt(1 - gz_air * gz_air);
+  const double above = tank.wall_height - tank.water_level;
+  const double shade_far = above * l.x / l.z + shift;
+  const double shade_near = (above - dz_air) * l.x / l.z + shift;
+  ASSERT_GT(strip, 4 * texel);
+  ASSERT_GT(shift - strip, 4 * texel);
+  std::vector<float> thick, thin;
+  CausticsOptions o;
+  o.light_through_walls = false;
+  o.glass_thickness_m = g;
+  ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &thick, nullptr));
+  o.glass_thickness_m = 1e-6;
+  ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &thin, nullptr));
+  const int b = 128;
+  double mirror = 0, beyond = 0, shade_thick = 2, shade_thin = 2;
+  int n_mirror = 0, n_beyond = 0;
+  for (int a = 0; a < 256; ++a) {
+    const double x0 = -h + a * texel, x1 = x0 + texel;
+    const float v = thick[b * 256 + a];
+    if (x0 > -h + texel && x1 < -h + strip - texel) {
+      mirror += v;
+      ++n_mirror;
+    } else if (x0 > -h + strip + texel && x1 < -h + shift - texel) {
+      beyond += v;
+      ++n_beyond;
+    }
+    if (x1 > h - shade_far && x0 < h - shade_near) {
+      shade_thick = std::min<double>(shade_thick, v);
+      shade_thin = std::min<double>(shade_thin, thin[b * 256 + a]);
+    }
+  }
+  ASSERT_GT(n_mirror, 2);
+  ASSERT_GE(n_beyond, 2);
+  std::printf(
+      "mirror strip %.2f mm: %.3f; beyond it %.3f (1 + R_wg %.3f); top face's "
+      "shade %.2f-%.2f mm: %.3f (thin glass %.3f)\n",
+      1e3 * strip, mirror / n_mirror, beyond / n_beyond, 1 + r_wg,
+      1e3 * shade_near, 1e3 * shade_far, shade_thick, shade_thin);
+  EXPECT_GT(mirror / n_mirror, 1.9);
+  EXPECT_NEAR(beyond / n_beyond, 1 + r_wg, 0.02);
+  // Thin glass mirrors the whole strip.
+  EXPECT_NEAR(
+      thin[b * 256 + static_cast<int>((strip + 0.5 * (shift - strip)) / texel)],
+      2.0, 0.01);
+  EXPECT_LT(shade_thick, 0.5);
+  EXPECT_GT(shade_thin, 0.75);  // 1 - 2R / (1 + R), a slab in air
 }
 
 // Oblique light shifts the lit area by level * tan(refracted angle) away
@@ -393,6 +475,17 @@ TEST(CausticsTest, RejectsBadInput) {
   o.ior = 0.5;
   std::string error;
   EXPECT_FALSE(o.IsValid(&error));
+  for (const double thickness : {-0.001, 0.2}) {
+    CausticsOptions g;
+    g.glass_thickness_m = thickness;
+    EXPECT_FALSE(g.IsValid(&error)) << thickness;
+  }
+  for (const int paths : {0, 17}) {
+    CausticsOptions g;
+    g.glass_paths_per_axis = paths;
+    EXPECT_FALSE(g.IsValid(&error)) << paths;
+    EXPECT_NE(error.find("paths per axis"), std::string::npos) << error;
+  }
   std::vector<float> map;
   EXPECT_FALSE(ComputeCaustics({}, {}, TankGeometry{}, {0, 0, -1}, &map,
                                nullptr));  // light from below

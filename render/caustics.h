@@ -50,7 +50,7 @@ struct CausticsOptions {
   bool glass_near_walls = true;
   double glass_ior = 1.5;
   double glass_thickness_m = 0.003;
-  int glass_paths_per_axis = 4;
+  int glass_paths_per_axis = 2;
   // Angular radius of the light's disc (radians): every direction within it
   // lights the floor with the same pattern, moved by the shift of its
   // refracted ray over the rest depth, so the map is convolved with that

@@ -1,7 +1,8 @@
 // The CPU caustics kernel: an N x N surface into a 256 x 256 map, one core
 // (threads = 1) unless the second argument says otherwise; the third
 // turns on the light's 2-degree disc (the penumbra's convolution). The
-// target is N = 128 in <= 1 ms on one core.
+// target is N = 128 in <= 1 ms on one core. And the glass walls' maps, once
+// per tank and light.
 //
 //   build-render/tests/render/render_caustics_benchmark
 #include <benchmark/benchmark.h>
@@ -57,6 +58,29 @@ BENCHMARK(BM_Caustics)
     ->Args({256, 1, 0})
     ->Args({256, 1, 1})
     ->Args({128, 2, 0})
+    ->Unit(benchmark::kMillisecond)
+    ->ComputeStatistics("min", MinOf)
+    ->UseRealTime();
+
+// The glass walls' maps for flat water (CausticsOptions::glass_near_walls
+// and light_through_walls), computed afresh: what a change of the light or
+// the tank costs once, before the workspace caches them. The argument is
+// the traced paths per texel and axis.
+void BM_CausticsWallMaps(benchmark::State& state) {
+  CausticsOptions o;
+  o.glass_paths_per_axis = static_cast<int>(state.range(0));
+  std::vector<float> map;
+  for (auto _ : state) {
+    ComputeCaustics(o, HeightFieldView{}, TankGeometry{}, {0.35, 0.25, 1.0},
+                    &map, nullptr);
+    benchmark::DoNotOptimize(map.data());
+  }
+}
+BENCHMARK(BM_CausticsWallMaps)
+    ->ArgNames({"paths"})
+    ->Arg(2)
+    ->Arg(4)
+    ->Arg(8)
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

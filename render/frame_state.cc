@@ -236,8 +236,10 @@ glm::ivec4 OutputWindow(const FrameState& f, int pad) {
   const SceneInputs& scene = *f.scene;
   const TankGeometry& t = scene.tank;
   const int w = f.k->width, h = f.k->height;
+  // The walls' top faces reach the glass's outer faces.
+  const double glass = f.optics ? 2.0 * f.optics->glass_thickness_m : 0.0;
   glm::ivec4 r =
-      BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
+      BoxRect(f.clip_from_tank, t.size_x + glass, t.size_y + glass, 0.0,
               std::max<double>(t.wall_height, t.water_level + 0.01), pad, w, h);
   r = UnionRect(r, ObstaclesRect(f, pad));
   const glm::dvec4& b = f.board_light_rect;

@@ -117,6 +117,18 @@ inline glm::vec3 FloorAroundLight(const WaterShading& s,
          (glm::vec3(1.0f) - r.mean_return * r.floor_albedo);
 }
 
+// WaterShading::under_glass (walls +x, -x, +y, -y) as the basis the
+// shaders take: the board under the wall whose inward normal is n (one of
+// +-x, +-y) is b[0] + n.x b[1] + n.y b[2] + |n.x| b[3], three multiply-adds
+// instead of a choice among four.
+inline void UnderGlassBasis(const WaterShading& s, glm::vec3 b[4]) {
+  const glm::vec3* u = s.under_glass;
+  b[0] = 0.5f * (u[2] + u[3]);
+  b[1] = 0.5f * (u[1] - u[0]);
+  b[2] = 0.5f * (u[3] - u[2]);
+  b[3] = 0.5f * (u[0] + u[1]) - b[0];
+}
+
 struct FrameState {
   const SceneInputs* scene = nullptr;
   const Intrinsics* k = nullptr;
@@ -208,8 +220,9 @@ void ObstacleBoxCorners(const Obstacle& o, glm::dvec3 corners[8]);
 glm::ivec4 ObstaclesRect(const FrameState& f, int pad);
 
 // The output's window (x, y, w, h; window pixels, top row first): every
-// pixel a pass can change. That is the tank's box from its floor to the
-// wall tops (or the rest level + 1 cm, if higher) and every obstacle's
+// pixel a pass can change. That is the tank's box out to the glass's outer
+// faces, from its floor to the wall tops (or the rest level + 1 cm, if
+// higher), and every obstacle's
 // bounding box, grown by `pad` pixels. Outside it the output is the video
 // as it came; the pen's phantom and the occluders only lay depth.
 glm::ivec4 OutputWindow(const FrameState& f, int pad);

@@ -88,12 +88,13 @@ void ModelUniforms::Resolve(const Program& p) {
   clip_from_model = p.Uniform("u_clip_from_model");
 }
 
-void TankWallsMesh::Create() {
+void TankWallsMesh::Create(float glass_thickness_m) {
+  glass_thickness_m_ = glass_thickness_m;
   vao_.Create();
   vbo_.Create();
   glBindVertexArray(vao_.id());
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.id());
-  glBufferData(GL_ARRAY_BUFFER, 24 * sizeof(WallVertex), nullptr,
+  glBufferData(GL_ARRAY_BUFFER, 48 * sizeof(WallVertex), nullptr,
                GL_DYNAMIC_DRAW);
   for (int a = 0; a < 3; ++a) glEnableVertexAttribArray(a);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(WallVertex),
@@ -121,6 +122,18 @@ void TankWallsMesh::Update(const TankGeometry& t) {
     const glm::vec3 up(0, 0, z);
     const WallVertex a{c[i], n[i], {0, len}}, b{c[i + 1], n[i], {len, len}},
         cc{c[i + 1] + up, n[i], {len, len}}, d{c[i] + up, n[i], {0, len}};
+    for (const WallVertex& x : {a, b, cc, a, cc, d}) v.push_back(x);
+  }
+  // The top faces: the -y and +y walls' span the corners.
+  const float gx = hx + glass_thickness_m_, gy = hy + glass_thickness_m_;
+  const glm::vec4 tops[4] = {{-gx, -gy, gx, -hy},
+                             {hx, -hy, gx, hy},
+                             {-gx, hy, gx, gy},
+                             {-gx, -hy, -hx, hy}};
+  for (const glm::vec4& r : tops) {
+    const glm::vec3 up(0, 0, 1);
+    const WallVertex a{{r.x, r.y, z}, up, {0, 0}}, b{{r.z, r.y, z}, up, {0, 0}},
+        cc{{r.z, r.w, z}, up, {0, 0}}, d{{r.x, r.w, z}, up, {0, 0}};
     for (const WallVertex& x : {a, b, cc, a, cc, d}) v.push_back(x);
   }
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.id());

@@ -27,11 +27,14 @@ struct ModelUniforms {
 };
 
 // The glass walls as 4 x 6 vertices (wall i: vertices 6i..6i+5; walls run
-// counter-clockwise seen from above, starting with the -y wall). Rebuilt
-// only when the tank geometry changes (its redraw key).
+// counter-clockwise seen from above, starting with the -y wall) at the inner
+// size, then their top faces as 4 x 6 vertices (24..47: the ring at the wall
+// height out to the glass's outer faces, `glass_thickness_m` beyond).
+// Rebuilt only when the tank geometry changes (its redraw key).
 class TankWallsMesh {
  public:
-  void Create();
+  static constexpr int kTopFirst = 24, kTopCount = 24;
+  void Create(float glass_thickness_m);
   void Update(const TankGeometry& tank);
   GLuint vao() const { return vao_.id(); }
 
@@ -39,6 +42,7 @@ class TankWallsMesh {
   VertexArray vao_;
   Buffer vbo_;
   std::optional<TankGeometry> tank_;
+  float glass_thickness_m_ = 0;
 };
 
 class SolidMeshes {

@@ -1,6 +1,7 @@
 #include "render/pass_walls.h"
 
 #include <algorithm>
+#include <string>
 
 #include "render/gl_state.h"
 #include "render/shaders.h"
@@ -29,6 +30,19 @@ bool WallsPass::Create(const Options& options, std::string* error) {
       return false;
     }
   }
+  if (!BuildProgram(&tops_, "walls' top faces", "wall_tops.vert",
+                    "wall_tops.frag", defines, error))
+    return false;
+  tops_common_.Resolve(tops_);  // leaves it bound
+  glUniform1f(tops_.Uniform("u_glass_ior"), options.optics.glass_ior);
+  glUniform1f(tops_.Uniform("u_ior"), options.optics.ior);
+  glUniform1f(tops_.Uniform("u_glass_thickness"),
+              options.optics.glass_thickness_m);
+  for (int w = 0; w < 4; ++w) {
+    const std::string name = "u_under_glass[" + std::to_string(w) + "]";
+    tops_under_glass_[w] = tops_.Uniform(name.c_str());
+  }
+  tops_floor_seen_ = tops_.Uniform("u_floor_seen");
   for (int i = 0; i < kPrograms; ++i) {
     common_[i].Resolve(programs_[i]);  // leaves it bound
     SetUniform(programs_[i].Uniform("u_sigma"),
@@ -112,6 +126,15 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
       if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }
   }
+  // The top faces replace what lies behind them.
+  state.Disable(GL_BLEND);
+  tops_common_.Set(tops_, f, f.clip_from_tank);
+  glm::vec3 basis[4];
+  UnderGlassBasis(f.shading, basis);
+  for (int w = 0; w < 4; ++w) SetUniform(tops_under_glass_[w], basis[w]);
+  SetUniform(tops_floor_seen_, floor_return.floor_seen);
+  glDrawArrays(GL_TRIANGLES, TankWallsMesh::kTopFirst,
+               TankWallsMesh::kTopCount);
   glBindVertexArray(0);
 }
 

@@ -1,6 +1,6 @@
 // Walls pass (internal to render/): the glass walls blended over everything
 // (dual-source: colour added, transmittance multiplied), far walls first,
-// then the walls facing the camera.
+// then the walls facing the camera; then the walls' top faces, opaque.
 //
 // Redraw key: none for the draw; the wall mesh is rebuilt only when the tank
 // geometry changes (TankWallsMesh).
@@ -46,6 +46,10 @@ class WallsPass {
   static constexpr int kFrontAbove = 9;
   Program programs_[kPrograms];
   CommonUniforms common_[kPrograms];
+  // The walls' top faces (wall_tops.frag), opaque, after the walls.
+  Program tops_;
+  CommonUniforms tops_common_;
+  GLint tops_under_glass_[4] = {-1, -1, -1, -1}, tops_floor_seen_ = -1;
   GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
         return_tint_[kPrograms] = {}, floor_around_[kPrograms] = {},

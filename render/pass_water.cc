@@ -357,13 +357,8 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   SetUniform(s.floor_sun, w.floor_sun);
   glUniform1f(s.inv_n2, w.inv_n2);
   glUniform1f(s.glass_t, w.glass_transmittance);
-  // The board under the wall whose inward normal is n (one of +-x, +-y):
-  // b0 + n.x b1 + n.y b2 + |n.x| b3 (three multiply-adds in the shader
-  // instead of a choice among four).
-  const glm::vec3* u = w.under_glass;  // +x, -x, +y, -y
-  const glm::vec3 b0 = 0.5f * (u[2] + u[3]);
-  const glm::vec3 basis[4] = {b0, 0.5f * (u[1] - u[0]), 0.5f * (u[3] - u[2]),
-                              0.5f * (u[0] + u[1]) - b0};
+  glm::vec3 basis[4];
+  UnderGlassBasis(w, basis);
   for (int i = 0; i < 4; ++i) SetUniform(s.under_glass[i], basis[i]);
   glUniform1f(s.glint_peak, w.glint_peak);
   glUniform1f(s.inv_alpha2, w.inv_alpha2);

@@ -222,7 +222,7 @@ bool Renderer::Impl::Init(std::string* error) {
     });
   }
   solids.Create();
-  walls_mesh.Create();
+  walls_mesh.Create(o.optics.glass_thickness_m);
   height.Create();
   caustics.Create(caustics_options);
   timer.Create(o.timing);

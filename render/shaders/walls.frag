@@ -16,8 +16,8 @@
 // values: the glass's exact Fresnel reflection of the sky is computed in
 // linear light as dst * T + C and carried into the encoded output to first
 // order: with sRGB, src1 = T^(1/2.2) (exact for a power-law transfer) and
-// src0 = C times the transfer's slope at mid-grey (0.66). Rims are mixed
-// towards white in encoded space. The waterline gets no line of its own:
+// src0 = C times the transfer's slope at mid-grey (0.66). The corners' rims
+// are mixed towards white in encoded space. The waterline gets no line of its own:
 // the surface meets the glass flat, as in the reference renderer (no
 // meniscus).
 in vec3 v_p;
@@ -84,8 +84,9 @@ void main() {
   float surface = SurfaceZ(clamp(v_p.xy, -half_size, half_size));
 #endif
   vec3 color = vec3(0.0);
-  // Bright rims at the top edge and the corners.
-  float edge = min(min(v_wall.x, v_wall.y - v_wall.x), u_tank.z - v_p.z);
+  // Bright rims at the corners, where two slabs meet (the top edge is the
+  // top face's, wall_tops.frag).
+  float edge = min(v_wall.x, v_wall.y - v_wall.x);
   float rim = 0.45 * (1.0 - smoothstep(0.0006, 0.0016, edge));
   const vec3 kRimColor = vec3(0.9, 0.97, 1.0);
   vec3 nrm = normalize(v_n);

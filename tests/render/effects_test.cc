@@ -985,6 +985,85 @@ TEST(EffectsTest, NoLineWhereTheSurfaceMeetsTheGlass) {
   EXPECT_LE(at, around + 3);
 }
 
+// The walls' top faces are windows into the glass. The camera's ray
+// refracted into the front wall's top face meets the slab's vertical faces
+// beyond the glass-air critical angle; below the water it stays in the slab
+// only while n_g sin(a) > n_w (a its angle from their normal). From a camera
+// 24 degrees off the vertical it does, and runs down to the board under the
+// glass: with that board painted red in the video and the rest grey, the
+// front top face's pixels read red (a white rim at the wall's top edge read
+// grey-white there). From the front view, 38 degrees off, it leaves the
+// slab into the water and the face shows the grey floor near the wall.
+TEST(EffectsTest, TopFaceShowsTheBoardUnderTheGlass) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  for (const bool steep : {true, false}) {
+    TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+    if (steep) {
+      // OpenCV's camera frame from GL's look-at (y and z flipped).
+      s.inputs.cam_from_tank =
+          glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, -1.0, -1.0)) *
+          glm::lookAt(glm::dvec3(0.0, -0.2, 0.45), glm::dvec3(0.0),
+                      glm::dvec3(0.0, 1.0, 0.0));
+    }
+    auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
+    ASSERT_NE(r, nullptr);
+    s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+    const TankGeometry& t = s.inputs.tank;
+    const WaterOptics optics;
+    const double y_in = -0.5 * t.size_y;
+    const double y_out = y_in - optics.glass_thickness_m;
+    const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+    const glm::dvec3 eye(tank_from_cam[3]);
+    auto ray = [&](double u, double v) {
+      return glm::normalize(glm::dvec3(
+          tank_from_cam *
+          glm::dvec4((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0, 0.0)));
+    };
+    // The board under the front glass red, the rest grey.
+    for (int v = 0; v < kH6; ++v) {
+      for (int u = 0; u < kW6; ++u) {
+        const glm::dvec3 d = ray(u, v);
+        const double y = d.z < 0 ? eye.y + d.y * (-eye.z / d.z) : 1.0;
+        const bool under = y > y_out && y < y_in;
+        std::uint8_t* px = &s.video[3 * (static_cast<size_t>(v) * kW6 + u)];
+        px[0] = under ? 40 : 150;
+        px[1] = under ? 40 : 150;
+        px[2] = under ? 230 : 150;
+      }
+    }
+    s.inputs.video.bgr = s.video.data();
+    const cv::Mat out = RenderScene(r.get(), s.inputs);
+    const glm::dvec3 top(0.0, 0.5 * (y_in + y_out), t.wall_height);
+    const glm::dvec3 v = glm::normalize(top - eye);
+    const glm::dvec3 g =
+        glm::refract(v, glm::dvec3(0.0, 0.0, 1.0), 1.0 / optics.glass_ior);
+    const bool trapped =
+        optics.glass_ior * std::sqrt(1.0 - g.y * g.y) > optics.ior;
+    ASSERT_EQ(trapped, steep);
+    auto row_at = [&](double y) {
+      const glm::dvec4 c =
+          s.inputs.cam_from_tank * glm::dvec4(0.0, y, t.wall_height, 1.0);
+      return s.k.fy * c.y / c.z + s.k.cy;
+    };
+    const double r_in = row_at(y_in), r_out = row_at(y_out);
+    const int u = static_cast<int>(std::lround(s.k.cx));
+    const int first = static_cast<int>(std::ceil(std::min(r_in, r_out) + 0.5));
+    const int last = static_cast<int>(std::floor(std::max(r_in, r_out) - 0.5));
+    ASSERT_LE(first, last);
+    for (int row = first; row <= last; ++row) {
+      const cv::Vec3b c = out.at<cv::Vec3b>(row, u);
+      std::printf("%s view, top face row %d: BGR %d %d %d\n",
+                  steep ? "steep" : "front", row, c[0], c[1], c[2]);
+      if (steep) {
+        EXPECT_GT(int{c[2]}, int{c[1]} + 60) << row;
+      } else {
+        EXPECT_LT(int{c[2]}, int{c[1]} + 20) << row;
+      }
+    }
+  }
+}
+
 TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);

@@ -190,14 +190,37 @@ double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
   const int k = std::max(1, paths_per_axis);
   const double step[2] = {cell[0] / k, cell[1] / k};
   const double rise = (tk.H + 0.001) / l.z;
-  const double margin[2] = {tk.H * std::abs(la[0]) / l.z + glass_thickness_m,
-                            tk.H * std::abs(la[1]) / l.z + glass_thickness_m};
-  const int n0[2] = {static_cast<int>(std::ceil((h[0] + margin[0]) / step[0])),
-                     static_cast<int>(std::ceil((h[1] + margin[1]) / step[1]))};
+  // The lattice: the points whose line up towards the light passes over
+  // the outer footprint below the walls' top, from the footprint to its
+  // shadow's far end.
+  int lo[2], hi[2];
+  for (int a = 0; a < 2; ++a) {
+    const double outer = h[a] + glass_thickness_m;
+    const double run = tk.H * la[a] / l.z;
+    lo[a] =
+        static_cast<int>(std::floor(std::min(-outer, -outer - run) / step[a]));
+    hi[a] = static_cast<int>(std::ceil(std::max(outer, outer - run) / step[a]));
+  }
   const double shift[2] = {tk.W * t.x / -t.z, tk.W * t.y / -t.z};
-  for (int jj = -n0[1]; jj < n0[1]; ++jj) {
-    for (int ii = -n0[0]; ii < n0[0]; ++ii) {
+  for (int jj = lo[1]; jj < hi[1]; ++jj) {
+    for (int ii = lo[0]; ii < hi[0]; ++ii) {
       const glm::dvec3 q((ii + 0.5) * step[0], (jj + 0.5) * step[1], 0.0);
+      // Heights at which the line is over the outer footprint: none below
+      // the walls' top, and the tank is not in its way.
+      double z0 = 0.0, z1 = tk.H;
+      for (int a = 0; a < 2; ++a) {
+        const double outer = h[a] + glass_thickness_m;
+        if (std::abs(la[a]) < 1e-12) {
+          if (std::abs(q[a]) >= outer) z1 = -1.0;
+          continue;
+        }
+        double za = (-outer - q[a]) * l.z / la[a];
+        double zb = (outer - q[a]) * l.z / la[a];
+        if (za > zb) std::swap(za, zb);
+        z0 = std::max(z0, za);
+        z1 = std::min(z1, zb);
+      }
+      if (!(z0 < z1)) continue;
       // Without the glass: the light crosses the walls' top height at
       // `top`, the surface at `s` and lands at `f`.
       const double top[2] = {q.x + tk.H * l.x / l.z, q.y + tk.H * l.y / l.z};

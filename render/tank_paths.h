@@ -5,7 +5,7 @@
 // water_level. A path is followed through every interface, splitting by the
 // exact (unpolarised) Fresnel reflectance, with total internal reflection and
 // Beer-Lambert absorption in the water, until a branch's weight falls under
-// PathTank::min_weight or it has met 24 interfaces. The board's light around
+// 1e-3 or it has met 24 interfaces. The board's light around
 // the tank (board_light.h) and the floor's light near the walls
 // (caustics_kernels.h) are both traced here.
 //
@@ -29,7 +29,6 @@ struct PathTank {
   double a = 0, b = 0, A = 0, B = 0, H = 0, W = 0;
   double n_water = 1.333, n_glass = 1.5;
   glm::dvec3 sigma{0.0};
-  double min_weight = 1e-3;  // a branch lighter than this ends
 };
 PathTank MakePathTank(const TankGeometry& tank, double glass_thickness_m,
                       double water_ior, double glass_ior,
@@ -60,8 +59,9 @@ PathEvent NextPathEvent(const PathTank& t, PathMedium m, const glm::dvec3& o,
                         const glm::dvec3& d);
 
 namespace tank_paths_detail {
-constexpr double kStep = 1e-7;  // metres past an interface
-constexpr int kMaxDepth = 24;   // interfaces along one path
+constexpr double kStep = 1e-7;       // metres past an interface
+constexpr double kMinWeight = 1e-3;  // a branch lighter than this ends
+constexpr int kMaxDepth = 24;        // interfaces along one path
 
 inline double IndexOf(const PathTank& t, PathMedium m) {
   return m == PathMedium::kWater ? t.n_water
@@ -111,7 +111,7 @@ void TracePath(const PathTank& t, glm::dvec3 o, glm::dvec3 d, PathMedium m,
     const double ci = -glm::dot(d, e.n);
     const double f = FresnelReflectance(ci, n1, n2);
     const glm::dvec3 r = d + 2.0 * ci * e.n;
-    if (f < 1.0 && (1.0 - f) * std::max({w.x, w.y, w.z}) > t.min_weight) {
+    if (f < 1.0 && (1.0 - f) * std::max({w.x, w.y, w.z}) > kMinWeight) {
       const double eta = n1 / n2;
       const double k = 1.0 - eta * eta * (1.0 - ci * ci);
       const glm::dvec3 tr = eta * d + (eta * ci - std::sqrt(k)) * e.n;
@@ -119,7 +119,7 @@ void TracePath(const PathTank& t, glm::dvec3 o, glm::dvec3 d, PathMedium m,
                 After(entry, m, e.next), depth);
     }
     w *= f;
-    if (std::max({w.x, w.y, w.z}) <= t.min_weight) return;
+    if (std::max({w.x, w.y, w.z}) <= kMinWeight) return;
     entry = After(entry, m, m);
     o = p + kStep * r;
     d = r;

@@ -31,7 +31,8 @@ void main() {
   float c = abs(dot(g.xy, inward));
   bool trapped = u_glass_ior * sqrt(max(1.0 - c * c, 0.0)) > u_ior;
   // The board point under the slab's middle that the ray reaches.
-  vec2 foot = v_p.xy + along * (dot(g.xy, along) * u_tank.z / max(-g.z, 1e-3));
+  float drift = dot(g.xy, along) * u_tank.z / max(-g.z, 1e-3);
+  vec2 foot = v_p.xy + along * drift;
   float mid = dot(half_size, abs(inward)) + 0.5 * u_glass_thickness;
   foot = foot * along - inward * mid;
   vec3 video =

@@ -17,9 +17,9 @@
 // linear light as dst * T + C and carried into the encoded output to first
 // order: with sRGB, src1 = T^(1/2.2) (exact for a power-law transfer) and
 // src0 = C times the transfer's slope at mid-grey (0.66). The corners' rims
-// are mixed towards white in encoded space. The waterline gets no line of its own:
-// the surface meets the glass flat, as in the reference renderer (no
-// meniscus).
+// are mixed towards white in encoded space. The waterline gets no line of
+// its own: the surface meets the glass flat, as in the reference renderer
+// (no meniscus).
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;

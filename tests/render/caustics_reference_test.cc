@@ -16,9 +16,7 @@
 namespace ripple {
 namespace {
 
-// Mean of a map over a band of the floor, one bin along a wall's normal:
-// points whose distance from the wall at +/- half (axis 0: x, 1: y) lies in
-// [from, from + width), within `across` of the centre line.
+// One 1 mm bin of a profile across a wall: the values that fell in it.
 struct Bin {
   double sum = 0;
   int count = 0;
@@ -31,6 +29,9 @@ struct Profiles {
   std::vector<Bin> reference[4], realtime[4];
 };
 
+// Adds the value at floor point (x, y) to the bin of each wall whose inner
+// face it lies within `depth_m` of, if it lies within `across_share` of
+// that wall's half length of the wall's middle.
 void Accumulate(double x, double y, double value, const render::TankGeometry& t,
                 double depth_m, double across_share, std::vector<Bin>* bins) {
   const double h[2] = {0.5 * t.size_x, 0.5 * t.size_y};

@@ -113,7 +113,6 @@ TEST(CausticsTest, LightThroughTheWallsFollowsTheSlabFormula) {
   CausticsSummary sum;
   CausticsOptions o;
   o.glass_near_walls = false;  // the light through the walls alone
-  o.glass_thickness_m = 1e-6;  // the thin slab's limit
   ASSERT_TRUE(ComputeCaustics(o, HeightFieldView{}, tank, l, &map, &sum));
   const double n = 1.333, ng = 1.5;
   const double cos_i = l.x;

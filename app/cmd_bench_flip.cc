@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "app/app_bench.h"
+#include "app/app_third_party_log.h"
 #include "bench/flip.h"
 #include "bench/flip_budget.h"
 #include "bench/stats.h"
@@ -55,6 +56,8 @@ cv::Mat ReadImage(const std::string& what, const std::string& path, bool grey,
                     bytes[2] == 0xFF;
   cv::Mat img;
   if (png || jpeg) {
+    // A damaged file makes libpng print its own lines: ours is the one.
+    StderrCapture quiet;
     try {
       img = cv::imdecode(bytes, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
     } catch (const cv::Exception&) {
@@ -99,6 +102,8 @@ int RunBenchFlip(const FlipArgs& args) {
     if (!parent.empty() && !std::filesystem::is_directory(parent))
       return Fail(kExitBadInput,
                   "--map '" + args.map + "': its folder does not exist");
+    if (std::filesystem::is_directory(args.map))
+      return Fail(kExitBadInput, "--map '" + args.map + "': is a folder");
   }
   bench::FlipOptions options;
   options.pixels_per_degree = args.pixels_per_degree;

@@ -8,12 +8,14 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace ripple {
 namespace {
 
 using ::testing::HasSubstr;
+using ::testing::Not;
 using testing::RunRipple;
 
 std::string Temp(const std::string& name) {
@@ -318,6 +320,22 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
                 ring + "realtime.png --map " + dir + "/no/such/map.png");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("its folder does not exist"));
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                ring + "realtime.png --map " + dir);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("is a folder"));
+  // A truncated PNG: our one line, not libpng's.
+  {
+    std::ifstream in(ring + "realtime.png", std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    std::ofstream(dir + "/truncated.png", std::ios::binary)
+        << bytes.substr(0, 100);
+  }
+  r = RunRipple("bench flip --reference " + ring + "reference.png --test " +
+                dir + "/truncated.png");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("not a readable PNG or JPEG"));
+  EXPECT_THAT(r.output, Not(HasSubstr("libpng")));
   r = RunRipple("bench render --scenes puddle --out " + dir + "/bad");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("unknown scene 'puddle'"));

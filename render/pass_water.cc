@@ -91,6 +91,34 @@ FloorReturnMap FloorReturnFor(const WaterOptics& o, const TankGeometry& t) {
 
 }  // namespace
 
+void WaterPass::UpdateWetBoard(const FrameState& f, bool new_tank) {
+  const TankGeometry& tank = f.scene->tank;
+  BoardLightOptions o;
+  o.texel_m = 0.0025;  // the points stand for the board beyond a whole wall
+  if (new_tank) {
+    wet_board_ = BoardLightLayout(tank, options_.optics, o);
+    ComputeBoardSkyView(tank, options_.optics, o, &wet_board_);
+  }
+  ComputeBoardDirectLight(tank, options_.optics, f.light, o, &wet_board_);
+  wet_board_light_ = f.light;
+  const BoardLightMap& m = wet_board_;
+  for (int w = 0; w < 4; ++w) {
+    const std::vector<glm::dvec2>& points = floor_return_.board_points[w];
+    wet_board_factor_[w].assign(points.size(), glm::vec3(1.0f));
+    for (size_t p = 0; p < points.size(); ++p) {
+      const int i =
+          static_cast<int>(std::floor((points[p].x - m.origin.x) / m.texel));
+      const int j =
+          static_cast<int>(std::floor((points[p].y - m.origin.y) / m.texel));
+      if (i < 0 || j < 0 || i >= m.nx || j >= m.ny) continue;
+      // White paper beside the tank, the tank's floor as bright as it.
+      const BoardTexel t = m.Texel(i, j, options_.optics, 1.0f);
+      for (int c = 0; c < 3; ++c)
+        wet_board_factor_[w][p][c] = t.Factor(c, kPaperRadiance, 1.0f);
+    }
+  }
+}
+
 void WaterPass::UpdateFloorReturn(const FrameState& f) {
   const TankGeometry& tank = f.scene->tank;
   const bool new_tank = !floor_return_tank_ ||
@@ -109,12 +137,14 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
         mean / double(std::max<size_t>(floor_return_.returned.size(), 1)));
     floor_return_tank_ = tank;
   }
+  const bool new_light = !wet_board_light_ || *wet_board_light_ != f.light;
+  if (new_tank || new_light) UpdateWetBoard(f, new_tank);
   // The board's radiance beyond each wall, as the video shows it where the
   // light leaving through that wall lands (the board is real: the video
-  // shows it around the virtual tank).
+  // shows it around the virtual tank), lit as the board beside the tank is.
   const VideoFrame& v = f.scene->video;
   // No frame this time: the last one's board stands.
-  if (v.bgr == nullptr && uploaded_ && !new_tank) return;
+  if (v.bgr == nullptr && uploaded_ && !new_tank && !new_light) return;
   glm::vec3 radiance[4];
   int seen = 0;
   glm::vec3 seen_sum(0.0f);
@@ -123,12 +153,13 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
   for (int w = 0; w < 4; ++w) {
     glm::dvec3 sum(0.0);
     int count = 0;
-    for (const glm::dvec2& q : floor_return_.board_points[w]) {
+    const std::vector<glm::dvec2>& points = floor_return_.board_points[w];
+    for (size_t p = 0; p < points.size(); ++p) {
       glm::dvec3 rgb;
-      if (!VideoRadianceAt(v, k, f.scene->cam_from_tank, q, f.srgb_output,
-                           &rgb))
+      if (!VideoRadianceAt(v, k, f.scene->cam_from_tank, points[p],
+                           f.srgb_output, &rgb))
         continue;
-      sum += rgb;
+      sum += rgb * glm::dvec3(wet_board_factor_[w][p]);
       ++count;
     }
     if (count > 0) {

@@ -19,6 +19,7 @@
 #include <optional>
 #include <string>
 
+#include "render/board_light.h"
 #include "render/coarse_grid.h"
 #include "render/frame_state.h"
 #include "render/gl_objects.h"
@@ -113,6 +114,12 @@ class WaterPass {
   // tank) and its surroundings' light for the board's radiance beyond each
   // wall as this frame's video shows it (re-uploaded when that changes).
   void UpdateFloorReturn(const FrameState& f);
+  // The board's light where the floor-return map's board points lie, with
+  // the tank standing on it over the dry board's (board_light.h: the sky it
+  // hides, the water column's shadow), per point: the video shows the dry
+  // board, the water's floor sees the board beside the tank. Traced on the
+  // CPU once per tank (the sky) and per light (the direct light).
+  void UpdateWetBoard(const FrameState& f, bool new_tank);
   // Changes of the board's radiance below this leave the map as it is.
   static constexpr float kBoardChange = 0.002f;
   // FloorReturnLight::floor_seen for this frame's video (the last frame's
@@ -124,6 +131,9 @@ class WaterPass {
   Texture floor_return_tex_;  // RGBA: surroundings' light, green return
   FloorReturnLight return_light_;
   std::optional<TankGeometry> floor_return_tank_;
+  BoardLightMap wet_board_;
+  std::optional<glm::dvec3> wet_board_light_;
+  std::vector<glm::vec3> wet_board_factor_[4];  // per board point
   glm::vec3 board_radiance_[4] = {glm::vec3(0.0f), glm::vec3(0.0f),
                                   glm::vec3(0.0f), glm::vec3(0.0f)};
   bool uploaded_ = false;

@@ -63,6 +63,16 @@ BoardTexel BoardLightMap::Texel(int i, int j, const WaterOptics& optics,
   return t;
 }
 
+glm::vec3 BoardLightMap::LightAt(double x, double y, const WaterOptics& optics,
+                                 float paper) const {
+  const int i = static_cast<int>(std::floor((x - origin.x) / texel));
+  const int j = static_cast<int>(std::floor((y - origin.y) / texel));
+  if (i < 0 || j < 0 || i >= nx || j >= ny) return glm::vec3(1.0f);
+  const BoardTexel t = Texel(i, j, optics, 1.0f);
+  return {t.Factor(0, paper, 1.0f), t.Factor(1, paper, 1.0f),
+          t.Factor(2, paper, 1.0f)};
+}
+
 BoardLightMap BoardLightLayout(const TankGeometry& tank,
                                const WaterOptics& optics,
                                const BoardLightOptions& options) {

@@ -98,6 +98,12 @@ struct BoardLightMap {
   BoardTexel Texel(int i, int j, const WaterOptics& optics,
                    float under_glass_light) const;
   bool InFootprint(double x, double y) const;
+  // The board's light at tank-frame (x, y) over the dry board's, per band,
+  // for white paper (radiance `paper`) beside the tank and a tank floor as
+  // bright as the paper: the texel's (nearest texel) factor; 1 outside the
+  // map.
+  glm::vec3 LightAt(double x, double y, const WaterOptics& optics,
+                    float paper) const;
 };
 
 // The map's rectangle: the outer footprint grown by two wall heights

@@ -101,20 +101,12 @@ void WaterPass::UpdateWetBoard(const FrameState& f, bool new_tank) {
   }
   ComputeBoardDirectLight(tank, options_.optics, f.light, o, &wet_board_);
   wet_board_light_ = f.light;
-  const BoardLightMap& m = wet_board_;
   for (int w = 0; w < 4; ++w) {
     const std::vector<glm::dvec2>& points = floor_return_.board_points[w];
-    wet_board_factor_[w].assign(points.size(), glm::vec3(1.0f));
+    wet_board_factor_[w].resize(points.size());
     for (size_t p = 0; p < points.size(); ++p) {
-      const int i =
-          static_cast<int>(std::floor((points[p].x - m.origin.x) / m.texel));
-      const int j =
-          static_cast<int>(std::floor((points[p].y - m.origin.y) / m.texel));
-      if (i < 0 || j < 0 || i >= m.nx || j >= m.ny) continue;
-      // White paper beside the tank, the tank's floor as bright as it.
-      const BoardTexel t = m.Texel(i, j, options_.optics, 1.0f);
-      for (int c = 0; c < 3; ++c)
-        wet_board_factor_[w][p][c] = t.Factor(c, kPaperRadiance, 1.0f);
+      wet_board_factor_[w][p] = wet_board_.LightAt(
+          points[p].x, points[p].y, options_.optics, kPaperRadiance);
     }
   }
 }

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 
 namespace ripple::render::internal {
 namespace {
@@ -133,6 +134,30 @@ TEST(BoardLightTest, TheWallsTakeSkyFromTheBoardBesideThem) {
     last = sky;
     EXPECT_GT(m.map.view.floor[k] + m.map.view.board[k], 0.0f) << d;
   }
+}
+
+// What the water's floor-return map takes from the board beside the tank
+// (BoardLightMap::LightAt): with the light from +x, +y, the board just
+// beyond the -y wall lies in the water column's shadow, the board just
+// beyond the +y wall gets the light the glass facing it reflects at grazing
+// incidence on top of its own, the open board far away keeps its light, and
+// points off the map read 1.
+TEST(BoardLightTest, LightAtReadsTheWetBoardBesideTheTank) {
+  const glm::dvec3 light(0.35, 0.25, 1.0);
+  const Maps m = Compute(WaterOptics{}, light);
+  const double y_out = 0.5 * m.tank.size_y + m.optics.glass_thickness_m;
+  const glm::vec3 shadow = m.map.LightAt(0.0, -y_out - 0.004, m.optics, 0.85f);
+  const glm::vec3 lit = m.map.LightAt(0.0, y_out + 0.004, m.optics, 0.85f);
+  const glm::vec3 far = m.map.LightAt(0.0, y_out + 0.07, m.optics, 0.85f);
+  const glm::vec3 off = m.map.LightAt(1.0, 1.0, m.optics, 0.85f);
+  std::printf(
+      "board beside the tank: shadow side %.3f, lit side %.3f, "
+      "7 cm out %.3f\n",
+      shadow.g, lit.g, far.g);
+  EXPECT_LT(shadow.g, 0.6f);
+  EXPECT_GT(lit.g, far.g + 0.1f);
+  EXPECT_NEAR(far.g, 1.0f, 0.03f);
+  EXPECT_EQ(off, glm::vec3(1.0f));
 }
 
 }  // namespace

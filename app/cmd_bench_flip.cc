@@ -11,8 +11,6 @@
 // most (what a bias of brightness costs, bench/flip_budget.h).
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <memory>
 #include <opencv2/imgcodecs.hpp>
 #include <string>
@@ -23,6 +21,7 @@
 #include "bench/flip.h"
 #include "bench/flip_budget.h"
 #include "bench/stats.h"
+#include "tracking/synth/image_file.h"
 
 namespace ripple::app {
 namespace {
@@ -36,36 +35,15 @@ struct FlipArgs {
 };
 
 // A PNG or JPEG file as 8-bit BGR (`grey`: one channel); empty with `error`
-// when it cannot be opened or decoded. The bytes are read here so that a
-// damaged file gives our one line and not the codec's own warnings.
+// when it cannot be read. A damaged file makes libpng print its own lines:
+// ours is the one.
 cv::Mat ReadImage(const std::string& what, const std::string& path, bool grey,
                   std::string* error) {
-  if (std::filesystem::is_directory(path)) {
-    *error = what + " '" + path + "': is a folder";
-    return {};
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in.is_open()) {
-    *error = what + " '" + path + "': cannot be opened";
-    return {};
-  }
-  const std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), {});
-  const bool png = bytes.size() > 8 && bytes[0] == 0x89 && bytes[1] == 'P' &&
-                   bytes[2] == 'N' && bytes[3] == 'G';
-  const bool jpeg = bytes.size() > 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 &&
-                    bytes[2] == 0xFF;
-  cv::Mat img;
-  if (png || jpeg) {
-    // A damaged file makes libpng print its own lines: ours is the one.
-    StderrCapture quiet;
-    try {
-      img = cv::imdecode(bytes, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR);
-    } catch (const cv::Exception&) {
-      img.release();  // reported below
-    }
-  }
-  if (img.empty())
-    *error = what + " '" + path + "': not a readable PNG or JPEG";
+  StderrCapture quiet;
+  std::string why;
+  cv::Mat img = synth::ReadImageFile(
+      path, grey ? cv::IMREAD_GRAYSCALE : cv::IMREAD_COLOR, &why);
+  if (img.empty()) *error = what + " '" + path + "': " + why;
   return img;
 }
 

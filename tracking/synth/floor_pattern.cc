@@ -2,13 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include "tracking/synth/image_file.h"
 #include "tracking/synth/raster.h"
 #include "tracking/tag_family.h"
 
@@ -123,28 +121,10 @@ std::optional<FloorPattern> FloorPattern::Create(const FloorOptions& options,
                    Vector2d(0.5 * size_x_m, 0.5 * size_y_m));
   if (options.kind == FloorKind::kImage) {
     const std::string& path = options.image_path;
-    // Read the bytes ourselves: imread would also log its own warning line.
-    std::ifstream in(path, std::ios::binary);
-    std::vector<uchar> bytes((std::istreambuf_iterator<char>(in)), {});
-    if (!in.good() && !in.eof()) bytes.clear();
-    if (!in.is_open() || std::filesystem::is_directory(path)) {
-      *error = "floor image '" + path + "': cannot be opened";
-      return std::nullopt;
-    }
-    const bool png = bytes.size() > 8 && bytes[0] == 0x89 && bytes[1] == 'P' &&
-                     bytes[2] == 'N' && bytes[3] == 'G';
-    const bool jpeg = bytes.size() > 3 && bytes[0] == 0xFF &&
-                      bytes[1] == 0xD8 && bytes[2] == 0xFF;
-    cv::Mat img;
-    if (png || jpeg) {
-      try {
-        img = cv::imdecode(bytes, cv::IMREAD_COLOR);
-      } catch (const cv::Exception&) {
-        img.release();  // a damaged file: reported below
-      }
-    }
+    std::string why;
+    const cv::Mat img = ReadImageFile(path, cv::IMREAD_COLOR, &why);
     if (img.empty()) {
-      *error = "floor image '" + path + "': not a readable PNG or JPEG image";
+      *error = "floor image '" + path + "': " + why;
       return std::nullopt;
     }
     if (img.cols > kMaxImageSide || img.rows > kMaxImageSide) {

@@ -86,12 +86,18 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
     glUniform1f(inv_n2_[i], f.shading.inv_n2);
     solids.Draw(scene, solid_model_[i], f.clip_from_tank, true, false);
   }
-  // The water only looks up points inside the tank, so only the tank's
-  // window rectangle (floor to the wall tops, or to the rest level + 1 cm if
-  // higher, padded for linear filtering) is copied.
+  // The water looks up points inside the tank, and on the board beyond the
+  // walls where its rays leave through them; the walls' top faces look up
+  // the board under the glass, past the corners too. So the copy is the
+  // window rectangle of the tank's outer box (floor to the wall tops, or to
+  // the rest level + 1 cm if higher) grown on the board by the water's
+  // depth, which holds the rays that leave a wall up to 45 degrees from the
+  // vertical, padded for linear filtering. Texels outside it hold whatever
+  // an earlier frame left there.
   const TankGeometry& t = scene.tank;
+  const double grow = 2.0 * (f.optics->glass_thickness_m + t.water_level);
   const glm::ivec4 r =
-      BoxRect(f.clip_from_tank, t.size_x, t.size_y, 0.0,
+      BoxRect(f.clip_from_tank, t.size_x + grow, t.size_y + grow, 0.0,
               std::max<double>(t.wall_height, t.water_level + 0.01), 2,
               f.k->width, f.k->height);
   if (r.z > 0 && r.w > 0) {

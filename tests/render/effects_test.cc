@@ -1064,6 +1064,49 @@ TEST(EffectsTest, TopFaceShowsTheBoardUnderTheGlass) {
   }
 }
 
+// The walls' top faces look up the board under the glass, past the tank's
+// corners too (the ray drifts along the wall), and the water looks up the
+// board beyond the walls: both read the refraction copy, which must hold
+// them. On an evenly grey board, from the steep view (the top faces show
+// the board under the glass), every pixel of the top faces' front corner
+// squares reads the board, not an uncopied texel (black before the copy
+// reached past the inner box).
+TEST(EffectsTest, TopFacesReadTheBoardAtTheCorners) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+  auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+  std::fill(s.video.begin(), s.video.end(), std::uint8_t{150});
+  s.inputs.video.bgr = s.video.data();
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  const TankGeometry& t = s.inputs.tank;
+  const double g = WaterOptics{}.glass_thickness_m;
+  const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  int seen = 0, dark = 0;
+  for (int v = 0; v < kH6; ++v) {
+    for (int u = 0; u < kW6; ++u) {
+      const glm::dvec3 d(tank_from_cam * glm::dvec4((u - s.k.cx) / s.k.fx,
+                                                    (v - s.k.cy) / s.k.fy, 1.0,
+                                                    0.0));
+      if (d.z >= 0) continue;
+      const glm::dvec3 p = eye + d * ((t.wall_height - eye.z) / d.z);
+      // The corner squares of the front wall's top face, less a tenth of a
+      // millimetre at their edges.
+      const double ax = std::abs(p.x) - 0.5 * t.size_x;
+      const double y = -p.y - 0.5 * t.size_y;
+      if (ax < 1e-4 || ax > g - 1e-4 || y < 1e-4 || y > g - 1e-4) continue;
+      ++seen;
+      const cv::Vec3b c = out.at<cv::Vec3b>(v, u);
+      if (c[0] < 60 || c[1] < 60 || c[2] < 60) ++dark;
+    }
+  }
+  EXPECT_GT(seen, 4) << "the corner squares are in view";
+  EXPECT_EQ(dark, 0) << "of " << seen << " corner pixels";
+}
+
 TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);

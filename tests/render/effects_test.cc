@@ -940,6 +940,17 @@ TEST(EffectsTest, FrontGlassMirrorsTheBoardInFrontOfIt) {
   for (int c = 0; c < 3; ++c) EXPECT_NEAR(far_red[c], far_green[c], 1) << c;
 }
 
+// `s` (flat water) over a video of one grey `level`, caustics and shadows
+// off; empty if no renderer.
+cv::Mat RenderOnUniformBoard(Context* ctx, std::uint8_t level, TestScene* s) {
+  auto r = Renderer::TryCreate(ctx, s->k, RendererOptions{}, nullptr);
+  if (r == nullptr) return {};
+  s->inputs.effects.caustics = s->inputs.effects.shadows = false;
+  std::fill(s->video.begin(), s->video.end(), level);
+  s->inputs.video.bgr = s->video.data();
+  return RenderScene(r.get(), s->inputs);
+}
+
 // Seen through a wall facing the camera, above the water, the surface and
 // the floor behind it are shifted as a glass slab shifts them: the ray
 // leaves the slab parallel to itself, displaced. A dark line painted on the
@@ -955,11 +966,8 @@ TEST(EffectsTest, NoLineWhereTheSurfaceMeetsTheGlass) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
   TestScene s = MakeScene(kW6, kH6, View::kFront, false);
-  auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
-  ASSERT_NE(r, nullptr);
-  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
-  std::fill(s.video.begin(), s.video.end(), std::uint8_t{200});
-  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  const cv::Mat out = RenderOnUniformBoard(ctx.get(), 200, &s);
+  ASSERT_FALSE(out.empty());
   const TankGeometry& t = s.inputs.tank;
   const WaterOptics optics;
   const int u = static_cast<int>(std::lround(s.k.cx));
@@ -1067,20 +1075,15 @@ TEST(EffectsTest, TopFaceShowsTheBoardUnderTheGlass) {
 // The walls' top faces look up the board under the glass, past the tank's
 // corners too (the ray drifts along the wall), and the water looks up the
 // board beyond the walls: both read the refraction copy, which must hold
-// them. On an evenly grey board, from the steep view (the top faces show
-// the board under the glass), every pixel of the top faces' front corner
-// squares reads the board, not an uncopied texel (black before the copy
-// reached past the inner box).
+// them. On an evenly grey board, from the front, every pixel of the front
+// top face's corner squares reads the board, not an uncopied texel (black
+// before the copy reached past the inner box).
 TEST(EffectsTest, TopFacesReadTheBoardAtTheCorners) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
   TestScene s = MakeScene(kW6, kH6, View::kFront, false);
-  auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
-  ASSERT_NE(r, nullptr);
-  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
-  std::fill(s.video.begin(), s.video.end(), std::uint8_t{150});
-  s.inputs.video.bgr = s.video.data();
-  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  const cv::Mat out = RenderOnUniformBoard(ctx.get(), 150, &s);
+  ASSERT_FALSE(out.empty());
   const TankGeometry& t = s.inputs.tank;
   const double g = WaterOptics{}.glass_thickness_m;
   const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);

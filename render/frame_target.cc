@@ -11,21 +11,28 @@ void FrameTarget::Create() { pbo_.Create(); }
 bool FrameTarget::Allocate(int w, int h, std::string* error) {
   width_ = w;
   height_ = h;
-  color_rb_.Create();
-  glBindRenderbuffer(GL_RENDERBUFFER, color_rb_.id());
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, w, h);
+  // Immutable storage, so that it can be viewed as sRGB too.
+  color_.Create();
+  glBindTexture(GL_TEXTURE_2D, color_.id());
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_RGBA8, w, h);
+  color_srgb_.Create();
+  glTextureView(color_srgb_.id(), GL_TEXTURE_2D, color_.id(), GL_SRGB8_ALPHA8,
+                0, 1, 0, 1);
+  glBindTexture(GL_TEXTURE_2D, 0);
   depth_rb_.Create();
   glBindRenderbuffer(GL_RENDERBUFFER, depth_rb_.id());
   glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH24_STENCIL8, w, h);
-  fbo_.Create();
-  glBindFramebuffer(GL_FRAMEBUFFER, fbo_.id());
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0,
-                            GL_RENDERBUFFER, color_rb_.id());
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
-                            GL_RENDERBUFFER, depth_rb_.id());
-  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
-    *error = "main framebuffer incomplete";
-    return false;
+  for (Framebuffer* fb : {&srgb_fbo_, &fbo_}) {
+    fb->Create();
+    glBindFramebuffer(GL_FRAMEBUFFER, fb->id());
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D,
+                           (fb == &fbo_ ? color_ : color_srgb_).id(), 0);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_STENCIL_ATTACHMENT,
+                              GL_RENDERBUFFER, depth_rb_.id());
+    if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+      *error = "main framebuffer incomplete";
+      return false;
+    }
   }
   glClearColor(0.f, 0.f, 0.f, 1.f);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);

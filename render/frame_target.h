@@ -34,12 +34,20 @@ class FrameTarget {
   const glm::ivec4& window() const { return window_; }
 
   GLuint fbo() const { return fbo_.id(); }
+  // The same colour and depth, the colour seen as sRGB (a view of the same
+  // texels): with GL_FRAMEBUFFER_SRGB on, blending into it decodes what is
+  // stored, blends in linear light and encodes the result. Every other pass
+  // draws into fbo(), whose RGBA8 view llvmpipe writes, blits and reads on
+  // its fast paths (an sRGB target for all of them cost the main pass 12%
+  // more instructions).
+  GLuint srgb_fbo() const { return srgb_fbo_.id(); }
 
  private:
   int width_ = 0, height_ = 0;
   glm::ivec4 window_{0};
-  Framebuffer fbo_;
-  Renderbuffer color_rb_, depth_rb_;
+  Framebuffer fbo_, srgb_fbo_;
+  Texture color_, color_srgb_;  // RGBA8 storage, its sRGB view
+  Renderbuffer depth_rb_;
   Buffer pbo_;
 };
 

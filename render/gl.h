@@ -90,7 +90,9 @@
   X(PFNGLSTENCILOPPROC, glStencilOp)                             \
   X(PFNGLTEXIMAGE2DPROC, glTexImage2D)                           \
   X(PFNGLTEXPARAMETERIPROC, glTexParameteri)                     \
+  X(PFNGLTEXSTORAGE2DPROC, glTexStorage2D)                       \
   X(PFNGLTEXSUBIMAGE2DPROC, glTexSubImage2D)                     \
+  X(PFNGLTEXTUREVIEWPROC, glTextureView)                         \
   X(PFNGLUNIFORM1FPROC, glUniform1f)                             \
   X(PFNGLUNIFORM1IPROC, glUniform1i)                             \
   X(PFNGLUNIFORM2FPROC, glUniform2f)                             \
@@ -180,7 +182,9 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glStencilOp ripple_glStencilOp
 #define glTexImage2D ripple_glTexImage2D
 #define glTexParameteri ripple_glTexParameteri
+#define glTexStorage2D ripple_glTexStorage2D
 #define glTexSubImage2D ripple_glTexSubImage2D
+#define glTextureView ripple_glTextureView
 #define glUniform1f ripple_glUniform1f
 #define glUniform1i ripple_glUniform1i
 #define glUniform2f ripple_glUniform2f

@@ -7,8 +7,9 @@
 namespace ripple::render::internal {
 namespace {
 
-constexpr GLenum kCaps[] = {GL_DEPTH_TEST, GL_STENCIL_TEST, GL_SCISSOR_TEST,
-                            GL_BLEND, GL_POLYGON_OFFSET_FILL};
+constexpr GLenum kCaps[] = {GL_DEPTH_TEST,          GL_STENCIL_TEST,
+                            GL_SCISSOR_TEST,        GL_BLEND,
+                            GL_POLYGON_OFFSET_FILL, GL_FRAMEBUFFER_SRGB};
 
 }  // namespace
 

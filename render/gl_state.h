@@ -22,8 +22,8 @@ class GlStateGuard {
   GlStateGuard(const GlStateGuard&) = delete;
   GlStateGuard& operator=(const GlStateGuard&) = delete;
 
-  // `cap`: GL_DEPTH_TEST, GL_STENCIL_TEST, GL_SCISSOR_TEST, GL_BLEND or
-  // GL_POLYGON_OFFSET_FILL (all off at rest).
+  // `cap`: GL_DEPTH_TEST, GL_STENCIL_TEST, GL_SCISSOR_TEST, GL_BLEND,
+  // GL_POLYGON_OFFSET_FILL or GL_FRAMEBUFFER_SRGB (all off at rest).
   void Enable(GLenum cap);
   // Switches off a capability this guard switched on.
   void Disable(GLenum cap);

@@ -64,12 +64,18 @@ bool WallsPass::Create(const Options& options, std::string* error) {
 }
 
 void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
-                     const FloorReturnLight& floor_return, bool board_mirror) {
+                     const FloorReturnLight& floor_return, bool board_mirror,
+                     GLuint target, GLuint srgb_target) {
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   state.Enable(GL_BLEND);
   glBlendFunc(GL_ONE, GL_SRC1_COLOR);
+  // Blend in linear light: the sRGB view decodes and encodes.
+  if (f.srgb_output) {
+    glBindFramebuffer(GL_FRAMEBUFFER, srgb_target);
+    state.Enable(GL_FRAMEBUFFER_SRGB);
+  }
   state.DepthMask(false);
   glBindVertexArray(walls.vao());
   // Which side of each wall's plane the camera is on (wall i as in
@@ -126,8 +132,12 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
       if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }
   }
-  // The top faces replace what lies behind them.
+  // The top faces replace what lies behind them, encoded by their shader.
   state.Disable(GL_BLEND);
+  if (f.srgb_output) {
+    state.Disable(GL_FRAMEBUFFER_SRGB);
+    glBindFramebuffer(GL_FRAMEBUFFER, target);
+  }
   tops_common_.Set(tops_, f, f.clip_from_tank);
   glm::vec3 basis[4];
   UnderGlassBasis(f.shading, basis);

@@ -27,14 +27,18 @@ class WallsPass {
     bool sky = false;
   };
   bool Create(const Options& options, std::string* error);
-  // Draws into the bound output, depth-tested against what is there.
-  // `floor_return`: the water pass's floor-return tint and means (its map
-  // is bound on kUnitFloorReturn). `board_mirror`: the reflection map (on
-  // kUnitReflection) holds this frame's video, so the glass facing the
-  // camera mirrors the board in front of it from there; otherwise it
-  // reflects the sky or the environment alone.
+  // Draws into `target` (bound on entry and on return), depth-tested
+  // against what is there; the glass's blend runs on `srgb_target`, the
+  // same texels seen as sRGB (FrameTarget::srgb_fbo), in linear light when
+  // the output is sRGB-encoded. `floor_return`: the water pass's
+  // floor-return tint and means (its map is bound on kUnitFloorReturn).
+  // `board_mirror`: the reflection map (on kUnitReflection) holds this
+  // frame's video, so the glass facing the camera mirrors the board in
+  // front of it from there; otherwise it reflects the sky or the
+  // environment alone.
   void Draw(const FrameState& f, const TankWallsMesh& walls,
-            const FloorReturnLight& floor_return, bool board_mirror);
+            const FloorReturnLight& floor_return, bool board_mirror,
+            GLuint target, GLuint srgb_target);
 
  private:
   // Far walls, then the front walls' variants: + 1 with shadows, + 2 with

@@ -418,7 +418,8 @@ bool Renderer::Render(const SceneInputs& scene,
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (fx.walls) {
     m.walls.Draw(f, m.walls_mesh, m.water.floor_return_light(),
-                 fx.reflection && m.video.have_video());
+                 fx.reflection && m.video.have_video(), m.target.fbo(),
+                 m.target.srgb_fbo());
   }
   m.timings.main_ms = m.timer.End(PassTimer::kMain);
 

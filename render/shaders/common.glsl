@@ -160,12 +160,17 @@ float FloorShadow(vec3 f) {
 // Linear radiance -> the output's encoding: the highlight shoulder (identity
 // up to the knee, then a rational roll-off towards 1 with slope 1 at the
 // knee, so bright caustics and glints keep their order and shape; optics.h)
-// and the video's transfer (sRGB, IEC 61966-2-1, or linear).
-vec3 EncodeOutput(vec3 c) {
+// and the video's transfer (sRGB, IEC 61966-2-1, or linear). Shoulder
+// alone for a pass whose target encodes (GL_FRAMEBUFFER_SRGB, walls.frag).
+vec3 Shoulder(vec3 c) {
   c = max(c, vec3(0.0));
   float room = 1.0 - u_knee;
   vec3 over = max(c - u_knee, vec3(0.0));
-  vec3 s = min(c, vec3(u_knee)) + room * over / (over + room);
+  return min(c, vec3(u_knee)) + room * over / (over + room);
+}
+
+vec3 EncodeOutput(vec3 c) {
+  vec3 s = Shoulder(c);
   // The power segment by three square roots (Ian Taylor's fit, within 0.4
   // of an 8-bit level of the exact curve): llvmpipe's pow is a log2 and an
   // exp2 polynomial per channel.

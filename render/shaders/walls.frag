@@ -12,14 +12,15 @@
 // With UNDER_SURFACE too, the part of a front wall under the surface's
 // lowest point, where the surface test is not needed.
 //
-// Elsewhere (above the water, walls facing away) the blend runs on encoded
-// values: the glass's exact Fresnel reflection of the sky is computed in
-// linear light as dst * T + C and carried into the encoded output to first
-// order: with sRGB, src1 = T^(1/2.2) (exact for a power-law transfer) and
-// src0 = C times the transfer's slope at mid-grey (0.66). The corners' rims
-// are mixed towards white in encoded space. The waterline gets no line of
-// its own: the surface meets the glass flat, as in the reference renderer
-// (no meniscus).
+// Elsewhere (above the water, walls facing away) the glass's exact Fresnel
+// reflection of the sky is blended in linear light, dst * T + C: the pass
+// draws into an sRGB view of the output (FrameTarget::srgb_fbo) with
+// GL_FRAMEBUFFER_SRGB on, so the blend decodes dst, blends and encodes the
+// result. So every output of this shader is linear (after the highlight
+// shoulder): src0 = C and src1 = T, and in the front walls' part under the
+// water the radiance itself. The corners' rims are mixed towards white in
+// linear light. The waterline gets no line of its own: the surface meets
+// the glass flat, as in the reference renderer (no meniscus).
 in vec3 v_p;
 in vec3 v_n;
 in vec2 v_wall;
@@ -88,7 +89,7 @@ void main() {
   // top face's, wall_tops.frag).
   float edge = min(v_wall.x, v_wall.y - v_wall.x);
   float rim = 0.45 * (1.0 - smoothstep(0.0006, 0.0016, edge));
-  const vec3 kRimColor = vec3(0.9, 0.97, 1.0);
+  const vec3 kRimColor = vec3(0.787, 0.933, 1.0);  // linear
   vec3 nrm = normalize(v_n);
   float cos_v = abs(dot(v, nrm));
   float r_glass = 2.0 * FresnelExact(cos_v, u_glass_ior);
@@ -155,7 +156,7 @@ void main() {
     vec3 lin = (seen * transmit_w + u_scatter * (1.0 - transmit_w)) *
                    (1.0 - r_glass) +
                sky_seen * r_glass;
-    o_color = vec4(mix(EncodeOutput(lin), kRimColor, rim), 1.0);
+    o_color = vec4(mix(Shoulder(lin), kRimColor, rim), 1.0);
     o_transmit = vec4(0.0);
     return;
   }
@@ -166,10 +167,6 @@ void main() {
   // three bands.
   color = color * (1.0 - r_glass) + sky_seen * r_glass;
   float transmit = 1.0 - r_glass;
-  if (u_srgb_out > 0.5) {
-    transmit = pow(transmit, 1.0 / 2.2);
-    color *= 0.66;
-  }
   color = color * (1.0 - rim) + kRimColor * rim;
   transmit *= 1.0 - rim;
   o_color = vec4(color, 1.0);

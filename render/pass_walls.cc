@@ -134,10 +134,10 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   }
   // The top faces replace what lies behind them, encoded by their shader.
   state.Disable(GL_BLEND);
-  if (f.srgb_output) {
-    state.Disable(GL_FRAMEBUFFER_SRGB);
-    glBindFramebuffer(GL_FRAMEBUFFER, target);
-  }
+  // On the same view with the encoding off, which writes the face's encoded
+  // values as they are: one change of framebuffer per frame, not two (each
+  // makes llvmpipe flush what was drawn before it).
+  if (f.srgb_output) state.Disable(GL_FRAMEBUFFER_SRGB);
   tops_common_.Set(tops_, f, f.clip_from_tank);
   glm::vec3 basis[4];
   UnderGlassBasis(f.shading, basis);
@@ -146,6 +146,7 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
   glDrawArrays(GL_TRIANGLES, TankWallsMesh::kTopFirst,
                TankWallsMesh::kTopCount);
   glBindVertexArray(0);
+  if (f.srgb_output) glBindFramebuffer(GL_FRAMEBUFFER, target);
 }
 
 }  // namespace ripple::render::internal

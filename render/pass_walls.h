@@ -28,9 +28,9 @@ class WallsPass {
   };
   bool Create(const Options& options, std::string* error);
   // Draws into `target` (bound on entry and on return), depth-tested
-  // against what is there; the glass's blend runs on `srgb_target`, the
-  // same texels seen as sRGB (FrameTarget::srgb_fbo), in linear light when
-  // the output is sRGB-encoded. `floor_return`: the water pass's
+  // against what is there; with an sRGB-encoded output through
+  // `srgb_target` instead, the same texels seen as sRGB
+  // (FrameTarget::srgb_fbo), so that the glass blends in linear light. `floor_return`: the water pass's
   // floor-return tint and means (its map is bound on kUnitFloorReturn).
   // `board_mirror`: the reflection map (on kUnitReflection) holds this
   // frame's video, so the glass facing the camera mirrors the board in

@@ -30,12 +30,12 @@ class WallsPass {
   // Draws into `target` (bound on entry and on return), depth-tested
   // against what is there; with an sRGB-encoded output through
   // `srgb_target` instead, the same texels seen as sRGB
-  // (FrameTarget::srgb_fbo), so that the glass blends in linear light. `floor_return`: the water pass's
-  // floor-return tint and means (its map is bound on kUnitFloorReturn).
-  // `board_mirror`: the reflection map (on kUnitReflection) holds this
-  // frame's video, so the glass facing the camera mirrors the board in
-  // front of it from there; otherwise it reflects the sky or the
-  // environment alone.
+  // (FrameTarget::srgb_fbo), so that the glass blends in linear light.
+  // `floor_return`: the water pass's floor-return tint and means (its map
+  // is bound on kUnitFloorReturn). `board_mirror`: the reflection map (on
+  // kUnitReflection) holds this frame's video, so the glass facing the
+  // camera mirrors the board in front of it from there; otherwise it
+  // reflects the sky or the environment alone.
   void Draw(const FrameState& f, const TankWallsMesh& walls,
             const FloorReturnLight& floor_return, bool board_mirror,
             GLuint target, GLuint srgb_target);

@@ -35,6 +35,7 @@ bool RoiSearchOptions::IsValid(std::string* error) const {
   if (full_search_period < 1) return fail("full_search_period must be >= 1");
   if (!(margin_fraction >= 0 && margin_px >= 0))
     return fail("roi margins must be >= 0");
+  if (!(recent_loss_s >= 0)) return fail("recent_loss_s must be >= 0");
   return true;
 }
 
@@ -82,9 +83,10 @@ std::vector<cv::Rect> PredictTagRois(const RoiSearchOptions& options,
 std::vector<TagDetection> RoiSearch::Detect(
     TagDetector* detector, const cv::Mat& gray, const Camera& camera,
     const std::vector<RoiObject>& objects, bool* full_out) {
-  bool any_pose = false;
-  for (const RoiObject& o : objects) any_pose = any_pose || o.cam_from_object;
-  bool full = !options_.enabled || !any_pose ||
+  bool any_tracked = false;
+  for (const RoiObject& o : objects)
+    any_tracked = any_tracked || (o.cam_from_object && !o.lost);
+  bool full = !options_.enabled || !any_tracked ||
               frames_since_full_ + 1 >= options_.full_search_period;
   std::vector<TagDetection> detections;
   if (!full) {
@@ -102,7 +104,7 @@ std::vector<TagDetection> RoiSearch::Detect(
         return false;
       };
       for (const RoiObject& o : objects)
-        if (o.cam_from_object && !found(*o.tags)) full = true;
+        if (o.cam_from_object && !o.lost && !found(*o.tags)) full = true;
     }
   }
   if (full) {

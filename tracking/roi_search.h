@@ -2,6 +2,10 @@
 // around where the last poses put them, with a whole-frame search every
 // full_search_period frames, whenever nothing is being tracked, and as a
 // fallback in a frame where a tracked object is not found in its regions.
+// An object lost a moment ago is still looked for around its last pose, so
+// that a pen missed for a frame (blur, a hand, a face at the detector's
+// limit) is found again at once rather than at the next whole-frame search;
+// its absence there forces no whole-frame search.
 #ifndef RIPPLE_TRACKING_ROI_SEARCH_H_
 #define RIPPLE_TRACKING_ROI_SEARCH_H_
 
@@ -22,6 +26,8 @@ struct RoiSearchOptions {
   int full_search_period = 10;   // frames between whole-frame searches
   double margin_fraction = 0.5;  // box margin, fraction of the tag's size
   double margin_px = 12.0;       // box margin added to that, pixels
+  // How long a lost object's last pose still places regions (seconds).
+  double recent_loss_s = 0.5;
 
   bool IsValid(std::string* error) const;
 };
@@ -30,6 +36,10 @@ struct RoiSearchOptions {
 struct RoiObject {
   const Pose* cam_from_object = nullptr;  // null: no pose, no regions
   const std::vector<TagPlacement>* tags = nullptr;
+  // The pose is the object's last one before a recent loss: its regions
+  // are searched, but missing from them is no reason to search the whole
+  // frame, and it alone does not count as something tracked.
+  bool lost = false;
 };
 
 // Pixel boxes around the predicted tags of `objects` (faces turned well away
@@ -47,8 +57,8 @@ class RoiSearch {
       : options_(options) {}
 
   // This frame's detections in `gray` (CV_8UC1): in the regions of
-  // `objects` when allowed, else (or when an object with a pose is missing
-  // from its regions) in the whole frame. `full` (may be null) tells which.
+  // `objects` when allowed, else (or when a tracked object is missing from
+  // its regions) in the whole frame. `full` (may be null) tells which.
   std::vector<TagDetection> Detect(TagDetector* detector, const cv::Mat& gray,
                                    const Camera& camera,
                                    const std::vector<RoiObject>& objects,

@@ -114,6 +114,8 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!pen_hypotheses.IsValid(error)) return false;
   if (!roi.IsValid(error)) return false;
   if (!(max_rmse_px > 0)) return fail("max_rmse_px must be positive");
+  if (!(max_single_tag_rmse_cells > 0))
+    return fail("max_single_tag_rmse_cells must be positive");
   if (!smoothing.reset_when_ambiguous &&
       smoothing.pen.reset_rotation_deg > flip_angle_deg)
     return fail(
@@ -142,10 +144,11 @@ Tracker::Tracker(const Camera& camera, const Rig& rig,
   std::string error;
   RIPPLE_CHECK(camera.IsValid(&error), "Tracker: invalid camera: " + error);
   RIPPLE_CHECK(rig.IsValid(&error), "Tracker: invalid rig: " + error);
+  const auto family = TagFamily::Create(rig_.family);
+  RIPPLE_CHECK(family != nullptr,
+               "Tracker: invalid rig: unknown tag family " + rig_.family);
+  cells_across_tag_ = family->width_at_border();
   if (rig_.pen && options_.pen_dense.enabled) {
-    const auto family = TagFamily::Create(rig_.family);
-    RIPPLE_CHECK(family != nullptr,
-                 "Tracker: invalid rig: unknown tag family " + rig_.family);
     pen_dense_model_ = DenseTagModel::Create(*family, rig_.pen->faces,
                                              options_.pen_dense, &error);
     RIPPLE_CHECK(pen_dense_model_.has_value(),
@@ -177,6 +180,17 @@ bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
     if (0.25 * move > options_.cut_jump_fraction * d.SizePx()) ++jumped;
   }
   return shared == 0 || jumped == shared;
+}
+
+bool Tracker::FitsItsTags(const std::vector<TagObservation>& obs,
+                          const ObjectPose& pose) const {
+  if (pose.tag_ids.size() != 1) return true;
+  for (const TagObservation& o : obs) {
+    if (o.id != pose.tag_ids[0]) continue;
+    const double cell_px = o.size_px / cells_across_tag_;
+    return pose.rmse_px <= options_.max_single_tag_rmse_cells * cell_px;
+  }
+  return true;
 }
 
 std::optional<Tracker::Estimate> Tracker::CheckFlip(
@@ -229,7 +243,9 @@ std::optional<Tracker::Estimate> Tracker::EstimateTank(
   if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
     return std::nullopt;
   auto e = CheckFlip(obs, pose, use_prior ? tank_.last_raw : std::nullopt);
-  if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+  if (!e || e->pose.rmse_px > options_.max_rmse_px ||
+      !FitsItsTags(obs, e->pose))
+    return std::nullopt;
   return e;
 }
 
@@ -294,7 +310,9 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
     if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);
     auto e = CheckFlip(obs, pose, pen_.hypotheses.other ? std::nullopt : prior);
     if (e) TrackHypotheses(obs, use_prior, time_s, &*e);
-    if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+    if (!e || e->pose.rmse_px > options_.max_rmse_px ||
+        !FitsItsTags(obs, e->pose))
+      return std::nullopt;
     return e;
   }
   // Best face: pose every face alone, keep the best by the chosen rule.
@@ -325,7 +343,9 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   auto e = CheckFlip(best_obs, best->pose,
                      pen_.hypotheses.other ? std::nullopt : prior);
   if (e) TrackHypotheses(best_obs, use_prior, time_s, &*e);
-  if (!e || e->pose.rmse_px > options_.max_rmse_px) return std::nullopt;
+  if (!e || e->pose.rmse_px > options_.max_rmse_px ||
+      !FitsItsTags(best_obs, e->pose))
+    return std::nullopt;
   return e;
 }
 
@@ -478,11 +498,18 @@ FrameResult Tracker::Track(const cv::Mat& image, double time_s) {
     cv::cvtColor(image, gray_, cv::COLOR_BGRA2GRAY);
     gray = &gray_;
   }
-  std::vector<RoiObject> objects = {
-      {tank_.last_raw ? &*tank_.last_raw : nullptr, &rig_.tank_tags}};
-  if (rig_.pen)
-    objects.push_back(
-        {pen_.last_raw ? &*pen_.last_raw : nullptr, &rig_.pen->faces});
+  // Regions around each object's last pose, or around its pose before a
+  // loss within roi.recent_loss_s.
+  auto roi_object = [&](const ObjectState& state,
+                        const std::vector<TagPlacement>& tags) {
+    if (state.last_raw) return RoiObject{&*state.last_raw, &tags, false};
+    if (state.lost_raw &&
+        time_s - state.last_seen_s <= options_.roi.recent_loss_s)
+      return RoiObject{&*state.lost_raw, &tags, true};
+    return RoiObject{nullptr, &tags, false};
+  };
+  std::vector<RoiObject> objects = {roi_object(tank_, rig_.tank_tags)};
+  if (rig_.pen) objects.push_back(roi_object(pen_, rig_.pen->faces));
   bool full = true;
   const std::vector<TagDetection> detections =
       roi_search_.Detect(&detector_, *gray, camera_, objects, &full);

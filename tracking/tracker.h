@@ -94,6 +94,17 @@ struct TrackerOptions {
   // A pose whose RMS reprojection error exceeds this is not reported
   // (pixels).
   double max_rmse_px = 3.0;
+  // A pose from one tag leaves two of its four corners' eight coordinates
+  // unexplained; a projected square fits them to the corners' noise. Where
+  // a hand, the pen or the image's border covers part of the tag's margin,
+  // libapriltag's outline follows the occluder, and the four corners are no
+  // longer the image of a square: on synth's benchmark preset such views of
+  // a 23-33 px pen face read 0.14-0.29 cells RMS and pose the tip 11-35 mm
+  // off, while uncovered ones read at most 0.08 cells (docs/tracking.md,
+  // "A single tag that is not a square"). A pose from a single tag whose RMS
+  // corner error exceeds this many of the tag's cells (its mean edge in the
+  // image over the family's width_at_border) is not reported.
+  double max_single_tag_rmse_cells = 0.12;
   // Flips: an estimate whose rotation jumps by more than flip_angle_deg from
   // the previous frame's is checked against the pose refined from the
   // previous one (the continued pose). The jump is taken only when the
@@ -202,6 +213,10 @@ class Tracker {
   // after the flip check.
   void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
                        double time_s, Estimate* e) const;
+  // False when `pose` rests on one tag whose corners do not fit a square
+  // (max_single_tag_rmse_cells).
+  bool FitsItsTags(const std::vector<TagObservation>& obs,
+                   const ObjectPose& pose) const;
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,
                                     const ObjectPose& estimate,
                                     const std::optional<Pose>& prior) const;
@@ -220,7 +235,8 @@ class Tracker {
   TrackerOptions options_;
   TagDetector detector_;
   std::optional<DenseTagModel> pen_dense_model_;
-  cv::Mat gray_;  // grey conversion of a colour frame
+  int cells_across_tag_ = 8;  // the rig family's width_at_border
+  cv::Mat gray_;              // grey conversion of a colour frame
   // The detector's transfer decoded to linear 8-bit values for the dense
   // refinement (built on first use; empty for linear frames).
   cv::Mat decode_lut_, linear_gray_;

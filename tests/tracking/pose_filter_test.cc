@@ -120,7 +120,9 @@ TEST(PoseFilterTest, GrowingMemoryAveragesTheFirstSamples) {
         k, growing, plain, mean);
     EXPECT_LT(growing, 1.3 * mean) << k;
     // Until the cut-off's own memory (tau = 0.16 s, 4.8 frames) takes over.
-    if (k <= 8) EXPECT_LT(growing, plain) << k;
+    if (k <= 8) {
+      EXPECT_LT(growing, plain) << k;
+    }
   }
   // One frame after the restart the plain low-pass keeps 0.9 of the first
   // sample (error 0.91 sigma against the mean's 0.71).

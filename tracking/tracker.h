@@ -94,16 +94,17 @@ struct TrackerOptions {
   // A pose whose RMS reprojection error exceeds this is not reported
   // (pixels).
   double max_rmse_px = 3.0;
-  // A pose from one tag leaves two of its four corners' eight coordinates
-  // unexplained; a projected square fits them to the corners' noise. Where
-  // a hand, the pen or the image's border covers part of the tag's margin,
-  // libapriltag's outline follows the occluder, and the four corners are no
-  // longer the image of a square: on synth's benchmark preset such views of
-  // a 23-33 px pen face read 0.14-0.29 cells RMS and pose the tip 11-35 mm
-  // off, while uncovered ones read at most 0.08 cells (docs/tracking.md,
-  // "A single tag that is not a square"). A pose from a single tag whose RMS
-  // corner error exceeds this many of the tag's cells (its mean edge in the
-  // image over the family's width_at_border) is not reported.
+  // A pose from one tag explains six of its four corners' eight
+  // coordinates; when the corners are the image of a square, the two left
+  // over hold only their noise. Where a hand, the pen or the image's border
+  // covers part of the tag's margin, libapriltag's outline follows the
+  // occluder, and the corners stop being a square's: on synth's benchmark
+  // preset most such views of a 23-33 px pen face read 0.145-0.29 cells RMS
+  // and pose the tip 11-35 mm off, while nearly all uncovered ones read
+  // 0.08 cells or less (docs/tracking.md, "A single tag that is not a
+  // square"). A pose from a single tag whose RMS corner error exceeds this
+  // many of the tag's cells (its mean edge in the image over the family's
+  // width_at_border) is not reported.
   double max_single_tag_rmse_cells = 0.12;
   // Flips: an estimate whose rotation jumps by more than flip_angle_deg from
   // the previous frame's is checked against the pose refined from the

@@ -138,35 +138,18 @@ void ComputeBoardSkyView(const TankGeometry& tank, const WaterOptics& optics,
           p.y = std::copysign(map->outer_y + 1e-4, p.y);
         }
       }
-      glm::dvec3 sky(0.0);
-      double board = 0, floor = 0, under = 0;
-      auto end = [&](PathEnd kind, const glm::dvec3&, const glm::dvec3& w,
-                     PathEntry) {
-        switch (kind) {
-          case PathEnd::kSky:
-            sky += w;
-            break;
-          case PathEnd::kBoard:
-            board += w.y;
-            break;
-          case PathEnd::kFloor:
-            floor += w.y;
-            break;
-          case PathEnd::kUnderGlass:
-            under += w.y * glass_scale;
-            break;
-        }
-      };
+      PathEndSums sums;
       for (const glm::dvec3& d : dirs) {
-        TracePath(t, p, d, PathMedium::kAirOutside, glm::dvec3(1.0), end);
+        TracePath(t, p, d, PathMedium::kAirOutside, glm::dvec3(1.0), sums);
       }
       for (const int jj : {j, view.ny - 1 - j}) {
         for (const int ii : {i, view.nx - 1 - i}) {
           const size_t k = static_cast<size_t>(jj) * view.nx + ii;
-          view.sky[k] = glm::vec3(sky / double(rays));
-          view.board[k] = static_cast<float>(board / rays);
-          view.floor[k] = static_cast<float>(floor / rays);
-          view.under_glass[k] = static_cast<float>(under / rays);
+          view.sky[k] = glm::vec3(sums.sky / double(rays));
+          view.board[k] = static_cast<float>(sums.board / rays);
+          view.floor[k] = static_cast<float>(sums.floor / rays);
+          view.under_glass[k] =
+              static_cast<float>(sums.under_glass * glass_scale / rays);
         }
       }
     }

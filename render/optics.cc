@@ -231,7 +231,8 @@ double UnderGlassDirectLight(const WaterOptics& o, const glm::dvec3& light,
 }
 
 WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
-                                 const glm::dvec3& light_in_tank) {
+                                 const glm::dvec3& light_in_tank,
+                                 const UnderGlassView& view) {
   WaterShading s;
   const double len = glm::length(light_in_tank);
   const double cos_l = len > 0 ? std::max(light_in_tank.z / len, 1e-3) : 1.0;
@@ -253,12 +254,20 @@ WaterShading ComputeWaterShading(const WaterOptics& o, double depth_m,
   const double ng2 = double(o.glass_ior) * o.glass_ior;
   const glm::dvec3 l = len > 0 ? light_in_tank / len : glm::dvec3(0, 0, 1);
   const glm::dvec3 outward[4] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}};
+  const double nw2 = double(o.ior) * o.ior;
+  const double v = view.albedo;
   for (int w = 0; w < 4; ++w) {
     const double direct = UnderGlassDirectLight(o, l, outward[w], d);
     for (int c = 0; c < 3; ++c) {
-      s.under_glass[w][c] = static_cast<float>(
-          (a * o.sky_tint[c] + (1.0 - a) * o.sun_tint[c] * direct / ng2) *
-          inner_t);
+      const double sun = (1.0 - a) * o.sun_tint[c] * direct / ng2;
+      double light = a * o.sky_tint[c] + sun;
+      if (view.traced) {
+        const double floor_light = s.floor_sky[c] + s.floor_sun[c];
+        light = (a * o.sky_tint[c] * view.sky[w][c] + view.board[w] * v +
+                 view.floor[w] * v * floor_light / nw2 + sun) /
+                std::max(1.0 - view.under[w] * v, 1e-3);
+      }
+      s.under_glass[w][c] = static_cast<float>(light * inner_t);
     }
   }
   const double alpha = o.light_angular_radius_rad;

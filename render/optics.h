@@ -164,12 +164,18 @@ struct WaterShading {
   float glass_transmittance = 1;
   // The board under each glass wall (+x, -x, +y, -y), seen from inside the
   // water through the wall's inner face (a ray the outer face reflects
-  // totally reaches it), relative to the dry board the video shows, per
-  // band. The sky's share keeps its light: the glass around the point fills
-  // its hemisphere with n_g^2 times the surroundings' radiance, and the way
-  // out divides by n_g^2. The direct light is collimated, so it gains no
-  // n_g^2 and leaves divided by it (UnderGlassDirectLight). Times the
-  // glass-water interface at normal incidence on the way out.
+  // totally reaches it) or from above through the top face, relative to the
+  // dry board the video shows, per band. Radiance over n^2 is kept across
+  // the interfaces, so each direction of the point's hemisphere in the glass
+  // brings n_g^2 times the radiance over n^2 of where it ends, and the way
+  // out divides by n_g^2 again: with an UnderGlassView the light is the
+  // traced shares of the sky, the board around the tank (lit as the dry
+  // board), the floor (lit as the floor's mean under water, its radiance
+  // over n_w^2) and the board under the glass itself (so the sum is divided
+  // by 1 - share x albedo); without one, the sky fills the hemisphere. The
+  // direct light is collimated, so it gains no n_g^2 and leaves divided by
+  // it (UnderGlassDirectLight). Times the glass-water interface at normal
+  // incidence on the way out.
   glm::vec3 under_glass[4] = {glm::vec3(1.0f), glm::vec3(1.0f), glm::vec3(1.0f),
                               glm::vec3(1.0f)};
   // Glint radiance per unit Fresnel at the centre of the light's disc:
@@ -178,8 +184,25 @@ struct WaterShading {
   float glint_peak = 0;
   float inv_alpha2 = 0;  // 1 / alpha^2
 };
+// The hemisphere of the board under each glass wall (+x, -x, +y, -y), seen
+// from inside the slab: the cosine-weighted shares of it whose paths end at
+// the sky (per band), on the board around the tank, on the tank's floor and
+// on the board under the glass, each times the Fresnel factors and the
+// water's absorption on the way (render/under_glass.h traces them).
+struct UnderGlassView {
+  bool traced = false;  // false: the sky fills the hemisphere
+  glm::vec3 sky[4] = {glm::vec3(0.0f), glm::vec3(0.0f), glm::vec3(0.0f),
+                      glm::vec3(0.0f)};
+  float board[4] = {0, 0, 0, 0};
+  float floor[4] = {0, 0, 0, 0};
+  float under[4] = {0, 0, 0, 0};
+  // The board's and the floor's albedo (linear), for the light they send.
+  float albedo = 0.85f;
+};
+
 WaterShading ComputeWaterShading(const WaterOptics& optics, double depth_m,
-                                 const glm::dvec3& light_in_tank);
+                                 const glm::dvec3& light_in_tank,
+                                 const UnderGlassView& view = {});
 
 // The direct light on the board under a glass side wall (`outward` its
 // outward unit normal, horizontal), per unit of the light's irradiance on

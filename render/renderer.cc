@@ -23,6 +23,7 @@
 #include "render/pass_video.h"
 #include "render/pass_walls.h"
 #include "render/pass_water.h"
+#include "render/under_glass.h"
 
 namespace ripple::render {
 
@@ -145,11 +146,14 @@ struct Renderer::Impl {
   VideoFrame last_video;
   glm::ivec4 last_window{0};
 
-  // The water's optics for the scene's light and depth, recomputed only
-  // when they change (ComputeWaterShading integrates over the sky).
+  // The water's optics for the scene's light and tank, recomputed only
+  // when they change (ComputeWaterShading integrates over the sky; the view
+  // from under the glass walls is traced per tank and water level).
   const WaterShading& Shading(const SceneInputs& scene);
   glm::dvec3 shading_light{0.0};
-  double shading_depth = -1;
+  TankGeometry shading_tank;
+  bool shading_valid = false;
+  UnderGlassView under_glass_view;
   WaterShading shading;
 
   bool Init(std::string* error);
@@ -236,11 +240,21 @@ bool Renderer::Impl::Init(std::string* error) {
 }
 
 const WaterShading& Renderer::Impl::Shading(const SceneInputs& scene) {
-  if (scene.light_in_tank != shading_light ||
-      scene.tank.water_level != shading_depth) {
+  const TankGeometry& t = scene.tank;
+  const bool same_tank = shading_valid && t.size_x == shading_tank.size_x &&
+                         t.size_y == shading_tank.size_y &&
+                         t.wall_height == shading_tank.wall_height &&
+                         t.water_level == shading_tank.water_level;
+  if (!same_tank) {
+    under_glass_view = internal::TraceUnderGlassView(t, options.optics);
+    under_glass_view.albedo = internal::kPaperRadiance;
+  }
+  if (!same_tank || scene.light_in_tank != shading_light) {
     shading_light = scene.light_in_tank;
-    shading_depth = scene.tank.water_level;
-    shading = ComputeWaterShading(options.optics, shading_depth, shading_light);
+    shading_tank = t;
+    shading_valid = true;
+    shading = ComputeWaterShading(options.optics, t.water_level, shading_light,
+                                  under_glass_view);
   }
   return shading;
 }

@@ -80,6 +80,31 @@ inline PathEntry After(PathEntry entry, PathMedium from, PathMedium to) {
 }
 }  // namespace tank_paths_detail
 
+// The summed weights of the branches of traced paths by where they end: the
+// sky per band, the board, the floor and the board under the glass in
+// green. Pass it to TracePath as `end`.
+struct PathEndSums {
+  glm::dvec3 sky{0.0};
+  double board = 0, floor = 0, under_glass = 0;
+  void operator()(PathEnd kind, const glm::dvec3&, const glm::dvec3& w,
+                  PathEntry) {
+    switch (kind) {
+      case PathEnd::kSky:
+        sky += w;
+        break;
+      case PathEnd::kBoard:
+        board += w.y;
+        break;
+      case PathEnd::kFloor:
+        floor += w.y;
+        break;
+      case PathEnd::kUnderGlass:
+        under_glass += w.y;
+        break;
+    }
+  }
+};
+
 // Follows o + s d from medium m with weight w per band, splitting at every
 // interface, and calls end(kind, point, weight, entry) for each branch that
 // reaches the sky (point: where it left the last interface), the board

@@ -184,6 +184,7 @@ struct WaterShading {
   float glint_peak = 0;
   float inv_alpha2 = 0;  // 1 / alpha^2
 };
+
 // The hemisphere of the board under each glass wall (+x, -x, +y, -y), seen
 // from inside the slab: the cosine-weighted shares of it whose paths end at
 // the sky (per band), on the board around the tank, on the tank's floor and

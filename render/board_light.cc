@@ -94,17 +94,7 @@ void ComputeBoardSkyView(const TankGeometry& tank, const WaterOptics& optics,
   const int side =
       std::max(2, 2 * (static_cast<int>(std::sqrt(options.sky_rays)) / 2));
   const int rays = side * side;
-  // Cosine-weighted directions, stratified over the unit square.
-  std::vector<glm::dvec3> dirs;
-  dirs.reserve(rays);
-  for (int v = 0; v < side; ++v) {
-    for (int u = 0; u < side; ++u) {
-      const double r2 = (v + 0.5) / side, phi = 2.0 * M_PI * (u + 0.5) / side;
-      const double r = std::sqrt(r2);
-      dirs.emplace_back(r * std::cos(phi), r * std::sin(phi),
-                        std::sqrt(1.0 - r2));
-    }
-  }
+  const std::vector<glm::dvec3> dirs = CosineDirections(side);
   BoardSkyView& view = map->view;
   const int step = std::max(1, options.sky_texels);
   view.texel = map->texel * step;

@@ -4,6 +4,21 @@
 #include <cmath>
 
 namespace ripple::render::internal {
+
+std::vector<glm::dvec3> CosineDirections(int side) {
+  std::vector<glm::dvec3> dirs;
+  dirs.reserve(static_cast<size_t>(side) * side);
+  for (int v = 0; v < side; ++v) {
+    for (int u = 0; u < side; ++u) {
+      const double r2 = (v + 0.5) / side, phi = 2.0 * M_PI * (u + 0.5) / side;
+      const double r = std::sqrt(r2);
+      dirs.emplace_back(r * std::cos(phi), r * std::sin(phi),
+                        std::sqrt(1.0 - r2));
+    }
+  }
+  return dirs;
+}
+
 namespace {
 
 constexpr double kInf = 1e30;

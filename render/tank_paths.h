@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "render/optics.h"
 #include "render/scene.h"
@@ -79,6 +80,11 @@ inline PathEntry After(PathEntry entry, PathMedium from, PathMedium to) {
   return entry == PathEntry::kSurface ? PathEntry::kSurfaceThenGlass : entry;
 }
 }  // namespace tank_paths_detail
+
+// side x side directions over the upper unit hemisphere, cosine-weighted
+// and stratified over the unit square (r^2 and the azimuth at cell
+// centres); an even side makes the set its own mirror image in x and in y.
+std::vector<glm::dvec3> CosineDirections(int side);
 
 // The summed weights of the branches of traced paths by where they end: the
 // sky per band, the board, the floor and the board under the glass in

@@ -1,6 +1,6 @@
 #include "render/under_glass.h"
 
-#include <cmath>
+#include <vector>
 
 #include "render/tank_paths.h"
 
@@ -17,19 +17,13 @@ UnderGlassView TraceUnderGlassView(const TankGeometry& tank,
     return view;
   }
   const double n = static_cast<double>(side) * side;
+  const std::vector<glm::dvec3> dirs = CosineDirections(side);
   for (const int axis : {0, 1}) {
     glm::dvec3 p(0.0, 0.0, 1e-7);
     p[axis] = axis == 0 ? 0.5 * (t.a + t.A) : 0.5 * (t.b + t.B);
     PathEndSums sums;
-    for (int v = 0; v < side; ++v) {
-      for (int u = 0; u < side; ++u) {
-        const double r2 = (v + 0.5) / side, phi = 2.0 * M_PI * (u + 0.5) / side;
-        const double r = std::sqrt(r2);
-        const glm::dvec3 d(r * std::cos(phi), r * std::sin(phi),
-                           std::sqrt(1.0 - r2));
-        TracePath(t, p, d, PathMedium::kGlass, glm::dvec3(1.0), sums);
-      }
-    }
+    for (const glm::dvec3& d : dirs)
+      TracePath(t, p, d, PathMedium::kGlass, glm::dvec3(1.0), sums);
     for (const int w : {2 * axis, 2 * axis + 1}) {
       view.sky[w] = glm::vec3(sums.sky / n);
       view.board[w] = static_cast<float>(sums.board / n);

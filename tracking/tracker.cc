@@ -182,8 +182,9 @@ bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
   return shared == 0 || jumped == shared;
 }
 
-bool Tracker::FitsItsTags(const std::vector<TagObservation>& obs,
-                          const ObjectPose& pose) const {
+bool Tracker::Reportable(const std::vector<TagObservation>& obs,
+                         const ObjectPose& pose) const {
+  if (pose.rmse_px > options_.max_rmse_px) return false;
   if (pose.tag_ids.size() != 1) return true;
   for (const TagObservation& o : obs) {
     if (o.id != pose.tag_ids[0]) continue;
@@ -243,9 +244,7 @@ std::optional<Tracker::Estimate> Tracker::EstimateTank(
   if (!EstimateObjectPose(options_.pose, camera_, obs, {}, &pose))
     return std::nullopt;
   auto e = CheckFlip(obs, pose, use_prior ? tank_.last_raw : std::nullopt);
-  if (!e || e->pose.rmse_px > options_.max_rmse_px ||
-      !FitsItsTags(obs, e->pose))
-    return std::nullopt;
+  if (!e || !Reportable(obs, e->pose)) return std::nullopt;
   return e;
 }
 
@@ -310,9 +309,7 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
     if (use_tip_prior) PreferPlausibleTip(obs, *cam_from_tank, &pose);
     auto e = CheckFlip(obs, pose, pen_.hypotheses.other ? std::nullopt : prior);
     if (e) TrackHypotheses(obs, use_prior, time_s, &*e);
-    if (!e || e->pose.rmse_px > options_.max_rmse_px ||
-        !FitsItsTags(obs, e->pose))
-      return std::nullopt;
+    if (!e || !Reportable(obs, e->pose)) return std::nullopt;
     return e;
   }
   // Best face: pose every face alone, keep the best by the chosen rule.
@@ -343,9 +340,7 @@ std::optional<Tracker::Estimate> Tracker::EstimatePen(
   auto e = CheckFlip(best_obs, best->pose,
                      pen_.hypotheses.other ? std::nullopt : prior);
   if (e) TrackHypotheses(best_obs, use_prior, time_s, &*e);
-  if (!e || e->pose.rmse_px > options_.max_rmse_px ||
-      !FitsItsTags(best_obs, e->pose))
-    return std::nullopt;
+  if (!e || !Reportable(best_obs, e->pose)) return std::nullopt;
   return e;
 }
 

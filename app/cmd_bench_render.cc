@@ -46,6 +46,9 @@ struct RenderBenchArgs {
   int samples_per_pixel = 64;
   int light_paths_per_texel = 64;
   int sky_rays = 4;
+  // The reference's diffuse round trips (ReferenceOptions::
+  // max_diffuse_bounces): 8 converges; fewer split its light by order.
+  int diffuse_bounces = 8;
   int timing_frames = 15;
   // The sky's share of the board's light, for both renderers (the light's
   // disc has the rest): 1 lights by the sky alone, 0 by the disc alone.
@@ -354,9 +357,10 @@ int RunBenchRender(const RenderBenchArgs& args) {
   refo.samples_per_pixel = args.samples_per_pixel;
   refo.light_paths_per_texel = args.light_paths_per_texel;
   refo.ambient_samples = args.sky_rays;
-  // The floor's light that the surface returns, to 8 round trips: for a
-  // white floor the series' remainder is then below 0.1% (docs/reference.md).
-  refo.max_diffuse_bounces = 8;
+  // The floor's light that the surface returns, by default to 8 round trips:
+  // for a white floor the series' remainder is then below 0.1%
+  // (docs/reference.md).
+  refo.max_diffuse_bounces = args.diffuse_bounces;
   if (!refo.IsValid(&error)) return Fail(kExitBadInput, error);
 
   const std::string csv_path = args.out + "/bench_render.csv";
@@ -771,6 +775,12 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "Reference sky rays per sample at the first diffuse point")
       ->capture_default_str()
       ->check(CLI::Range(1, 1024));
+  sub->add_option("--diffuse-bounces", args->diffuse_bounces,
+                  "Reference diffuse bounces (0: the disc's light on what the "
+                  "camera sees; fewer than the default split the light by "
+                  "order)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 16));
   sub->add_option("--timing-frames", args->timing_frames,
                   "Real-time frames timed per scene")
       ->capture_default_str()

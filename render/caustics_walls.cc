@@ -132,13 +132,22 @@ double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
   const double cell[2] = {tank.size_x / mx, tank.size_y / my};
   // How far from a wall the glass can change the surface's light, per axis:
   // the light's run over the wall above the water, the refracted light's
-  // over the water's depth, the glass and two texels.
+  // over the water's depth, the glass and two texels; or the run over the
+  // water's depth of the light that crossed the wall facing away above the
+  // water and came back in below the water line after its outer face's
+  // reflection. That light leaves the inner face as if refracted straight
+  // from the air into the water through the wall's plane (the slab's faces
+  // are parallel): along the wall's normal n_w sqrt(1 - (1 - l_a^2) / n_w^2),
+  // down l.z, so it runs sqrt(n_w^2 - 1 + l_a^2) / l.z per unit of depth,
+  // about one depth under a light 23 degrees off the vertical.
   const double la[2] = {l.x, l.y};
   double reach[2];
   for (int a = 0; a < 2; ++a) {
-    reach[a] = (tk.H - tk.W) * std::abs(la[a]) / l.z +
-               tk.W * std::abs(a == 0 ? t.x : t.y) / -t.z + glass_thickness_m +
-               2.0 * cell[a];
+    const double refracted = (tk.H - tk.W) * std::abs(la[a]) / l.z +
+                             tk.W * std::abs(a == 0 ? t.x : t.y) / -t.z;
+    const double back_in =
+        tk.W * std::sqrt(ior * ior - 1.0 + la[a] * la[a]) / l.z;
+    reach[a] = std::max(refracted, back_in) + glass_thickness_m + 2.0 * cell[a];
   }
   auto near_texel = [&](int i, int j, double grow) {
     const double x = -h[0] + (i + 0.5) * cell[0];
@@ -174,10 +183,12 @@ double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
         splat(&surface, p.x, p.y, w.x);
         break;
       case internal::PathEntry::kSurfaceThenGlass:
+      case internal::PathEntry::kWallFromInside:
         splat(&mirrored, p.x, p.y, w.x);
         break;
       case internal::PathEntry::kWall:  // AddWallLight's, analytically
       case internal::PathEntry::kNone:
+      case internal::PathEntry::kInsideGlass:
         break;
     }
   };

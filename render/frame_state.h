@@ -91,18 +91,23 @@ struct FloorReturnLight {
   // The floor's mean albedo as the video shows it (linear, each band at most
   // 0.95): the floor around a point, whose light the surface returns to it.
   glm::vec3 floor_albedo{kPaperRadiance};
+  // The direct light's mean factor over the floor: the caustics map's mean
+  // where caustics are drawn (the light the walls let in adds to what the
+  // surface lets in and moves), else 1. The obstacles' shadows are taken
+  // at 1.
+  float direct_mean = 1.0f;
 };
 
-// The floor's mean light under water, relative to the dry board: the sky
-// and the direct light through the surface, the caustics and shadows taken
-// at their mean, 1 (caustics move the light, they add none), and the
+// The floor's mean light under water, relative to the dry board: the sky,
+// the direct light at its mean over the floor (the caustics map's mean:
+// the surface moves the light, the walls add theirs) and the
 // surroundings' mean. The surface's return to a point comes from the floor
 // around it (a totally reflected ray lands two depths times the critical
 // angle's tangent away or more), lit as this mean, not as the point
 // (water.frag, walls.frag).
 inline glm::vec3 FloorMeanLight(const WaterShading& s,
                                 const FloorReturnLight& r) {
-  return s.floor_sky + s.floor_sun + r.mean_surround;
+  return s.floor_sky + s.floor_sun * r.direct_mean + r.mean_surround;
 }
 
 // What the surface sends back to a floor point per unit of its return
@@ -147,6 +152,9 @@ struct FrameState {
   // The board around the tank that the board-light pass changes (tank frame
   // x0, y0, x1, y1, metres, z = 0); empty (x0 >= x1) when it is off.
   glm::dvec4 board_light_rect{0.0};
+  // The caustics map's mean over the floor this frame (CausticsPass::mean);
+  // 1 without caustics.
+  float caustics_mean = 1.0f;
 };
 
 // `optics` must outlive the frame; `shading` is left for the caller, which

@@ -19,9 +19,9 @@ bool CausticsKey::Same(const CausticsKey& o) const {
          glm::length(light - o.light) < 1e-9;
 }
 
-void CausticsPass::Create(const Options& options) {
+void CausticsPass::Create(const CausticsOptions& options) {
   options_ = options;
-  const int c = options.map_size;
+  const int c = options.map_nx;
   map_.assign(static_cast<size_t>(c) * c, 1.0f);
   AllocTexture(&texture_, GL_R32F, c, c, GL_RED, GL_FLOAT, GL_LINEAR,
                GL_CLAMP_TO_EDGE, map_.data());
@@ -34,19 +34,14 @@ bool CausticsPass::Trace(const SceneInputs& scene, double* ms) {
   const CausticsKey key = CausticsKey::Of(scene);
   if (key_ && key_->Same(key)) return false;
   const auto t0 = std::chrono::steady_clock::now();
-  CausticsOptions co;
-  co.map_nx = co.map_ny = options_.map_size;
-  co.threads = options_.threads;
-  co.attenuation_per_m = options_.attenuation_per_m;
-  co.ior = options_.ior;
-  co.glass_ior = options_.glass_ior;
-  co.glass_thickness_m = options_.glass_thickness_m;
-  co.light_angular_radius_rad = options_.light_angular_radius_rad;
   const HeightFieldView& surface = scene.caustics_water.heights != nullptr
                                        ? scene.caustics_water
                                        : scene.water;
-  ComputeCaustics(co, surface, scene.tank, key.light, &map_, nullptr,
+  ComputeCaustics(options_, surface, scene.tank, key.light, &map_, nullptr,
                   &workspace_);
+  double sum = 0;
+  for (const float v : map_) sum += v;
+  mean_ = map_.empty() ? 1.0f : static_cast<float>(sum / map_.size());
   key_ = key;
   uploaded_ = false;
   *ms = std::chrono::duration<double, std::milli>(
@@ -60,8 +55,8 @@ bool CausticsPass::Update(const SceneInputs& scene, double* ms) {
   if (!uploaded_) {
     glBindTexture(GL_TEXTURE_2D, texture_.id());
     glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
-    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, options_.map_size,
-                    options_.map_size, GL_RED, GL_FLOAT, map_.data());
+    glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, options_.map_nx, options_.map_ny,
+                    GL_RED, GL_FLOAT, map_.data());
     uploaded_ = true;
   }
   return traced;

@@ -28,18 +28,9 @@ struct CausticsKey {
 
 class CausticsPass {
  public:
-  struct Options {
-    int map_size = 256;  // texels per side, over the tank floor
-    int threads = 1;     // CPU threads of ComputeCaustics
-    // Mean absorption of the water (1/m): light loses it on its way down
-    // (Nishita's attenuation along the refracted path).
-    double attenuation_per_m = 0.0;
-    double ior = 1.333;      // water
-    double glass_ior = 1.5;  // walls (CausticsOptions)
-    double glass_thickness_m = 0.003;
-    double light_angular_radius_rad = 0.0;  // the light's disc (penumbra)
-  };
-  void Create(const Options& options);
+  // `options.map_nx` == `options.map_ny` (a square texture over the floor);
+  // renderer.h, CausticsOptionsFor.
+  void Create(const CausticsOptions& options);
 
   // Recomputes the map on the CPU if its key changed since it was last
   // computed; true if it did, with the CPU time in `ms`. No GL: it may run
@@ -49,11 +40,17 @@ class CausticsPass {
   // traced.
   bool Update(const SceneInputs& scene, double* ms);
   GLuint texture() const { return texture_.id(); }
+  // The map's mean over the floor (1 before the first trace): the surface
+  // moves the light it lets in, the walls add theirs (the strip beside the
+  // walls facing the light, the glass's reflections), so with walls it is
+  // above 1.
+  float mean() const { return mean_; }
 
  private:
-  Options options_;
+  CausticsOptions options_;
   Texture texture_;
   std::vector<float> map_;
+  float mean_ = 1.0f;
   CausticsWorkspace workspace_;
   std::optional<CausticsKey> key_;  // of map_
   bool uploaded_ = false;           // map_ is in texture_

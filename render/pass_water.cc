@@ -206,6 +206,7 @@ void WaterPass::UpdateFloorReturn(const FrameState& f) {
 }
 
 void WaterPass::UpdateFloorLight(const FrameState& f) {
+  return_light_.direct_mean = f.caustics_mean;
   UpdateFloorReturn(f);
   UpdateFloorSeen(f);
 }

@@ -38,6 +38,19 @@ double MsSince(Clock::time_point t0) {
 
 }  // namespace
 
+CausticsOptions CausticsOptionsFor(const RendererOptions& o) {
+  CausticsOptions c;
+  c.map_nx = c.map_ny = o.caustics_map_size;
+  c.threads = o.caustics_threads;
+  const glm::vec3& sigma = o.optics.absorption_per_m;
+  c.attenuation_per_m = (sigma.x + sigma.y + sigma.z) / 3.0;
+  c.ior = o.optics.ior;
+  c.glass_ior = o.optics.glass_ior;
+  c.glass_thickness_m = o.optics.glass_thickness_m;
+  c.light_angular_radius_rad = o.optics.light_angular_radius_rad;
+  return c;
+}
+
 const char* ShadowFilterName(ShadowFilter filter) {
   switch (filter) {
     case ShadowFilter::kPcf:
@@ -175,15 +188,6 @@ bool Renderer::Impl::Init(std::string* error) {
   shadow_options.pen = o.pen_casts_shadow;
   shadow_options.filter = o.shadow_filter;
   shadow_options.gauss_sigma_texels = o.shadow_gauss_sigma_texels;
-  internal::CausticsPass::Options caustics_options;
-  caustics_options.map_size = o.caustics_map_size;
-  caustics_options.threads = o.caustics_threads;
-  const glm::vec3& sigma = o.optics.absorption_per_m;
-  caustics_options.attenuation_per_m = (sigma.x + sigma.y + sigma.z) / 3.0;
-  caustics_options.ior = o.optics.ior;
-  caustics_options.glass_ior = o.optics.glass_ior;
-  caustics_options.glass_thickness_m = o.optics.glass_thickness_m;
-  caustics_options.light_angular_radius_rad = o.optics.light_angular_radius_rad;
   const bool srgb = o.video_transfer == Transfer::kSrgb;
   const internal::ObstaclesPass::Options obstacles_options{
       o.obstacle_albedo,
@@ -228,7 +232,7 @@ bool Renderer::Impl::Init(std::string* error) {
   solids.Create();
   walls_mesh.Create(o.optics.glass_thickness_m);
   height.Create();
-  caustics.Create(caustics_options);
+  caustics.Create(CausticsOptionsFor(o));
   timer.Create(o.timing);
   target.Create();
   if (!AllocateOutput(error)) return false;
@@ -374,6 +378,10 @@ bool Renderer::Render(const SceneInputs& scene,
         internal::MeasureGroundRadiance(scene, m.k, f.srgb_output, m.ground);
   }
   f.ground = m.ground;
+  // Caustics before the floor's light, which takes the map's mean.
+  m.timings.caustics_recomputed =
+      fx.caustics && m.caustics.Update(scene, &m.timings.caustics_ms);
+  f.caustics_mean = fx.caustics ? m.caustics.mean() : 1.0f;
   m.water.UpdateFloorLight(f);
   if (tank_shadow) {
     m.board_light.Update(f, m.water.floor_return_light().floor_seen);
@@ -388,7 +396,8 @@ bool Renderer::Render(const SceneInputs& scene,
   f.height = m.height.info();
   m.walls_mesh.Update(scene.tank);
   m.real.Upload(scene, &m.real_state);
-  m.timings.upload_ms = MsSince(t_start);
+  // The caustics' CPU time, spent above, is its own figure.
+  m.timings.upload_ms = MsSince(t_start) - m.timings.caustics_ms;
 
   // Effects maps, only when their keys changed.
   if (fx.shadows && m.shadow.NeedsRedraw(scene)) {
@@ -398,8 +407,6 @@ bool Renderer::Render(const SceneInputs& scene,
     m.timings.shadow_redrawn = true;
   }
   f.shadow = m.shadow.transform();
-  m.timings.caustics_recomputed =
-      fx.caustics && m.caustics.Update(scene, &m.timings.caustics_ms);
   if (inputs_copied) inputs_copied();
 
   // The environment cube map, only when the frame changed enough. From the

@@ -40,6 +40,7 @@
 #include <string>
 
 #include "render/camera.h"
+#include "render/caustics.h"
 #include "render/context.h"
 #include "render/optics.h"
 #include "render/scene.h"
@@ -241,6 +242,12 @@ glm::ivec4 LetterboxRect(int image_width, int image_height, int window_width,
 // the sky it hides), metres: an occluder over that board must be in the
 // occluder mask to keep its pixels.
 double TankShadowReach(const TankGeometry& tank, const WaterOptics& optics);
+
+// The options the renderer computes its caustics map with: the map's size
+// and threads from `options`, the optics' indices, glass and light disc,
+// and the water's mean absorption along the refracted path (Nishita's
+// attenuation); for tools and tests that want the same map.
+CausticsOptions CausticsOptionsFor(const RendererOptions& options);
 
 class Renderer {
  public:

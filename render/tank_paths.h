@@ -43,8 +43,20 @@ enum class PathEnd { kSky, kBoard, kUnderGlass, kFloor };
 // the surface, no interface met since: the refracted light of the surface
 // alone), kSurfaceThenGlass (first through the surface, then at least one
 // more interface: mirrored by a wall, or out and back in), kWall (first
-// through a wall's inner face: light that came in through the glass).
-enum class PathEntry { kNone, kSurface, kSurfaceThenGlass, kWall };
+// through a wall's inner face, having entered the glass from outside the
+// tank: light that came in through the wall), kWallFromInside (first
+// through a wall's inner face, having entered the glass from the air inside
+// the tank: light that crossed the wall above the water, was reflected by
+// its outer face and came back in below the water line). kInsideGlass: not
+// in the water yet, but in or through a wall entered from the air inside.
+enum class PathEntry {
+  kNone,
+  kInsideGlass,
+  kSurface,
+  kSurfaceThenGlass,
+  kWall,
+  kWallFromInside
+};
 
 // The next interface or end of a path in one medium.
 struct PathEvent {
@@ -72,10 +84,15 @@ inline double IndexOf(const PathTank& t, PathMedium m) {
 // The entry state of the branch that crosses from `from` into `to` (or
 // stays, `to` == `from`, by reflection).
 inline PathEntry After(PathEntry entry, PathMedium from, PathMedium to) {
-  if (entry == PathEntry::kNone) {
-    if (to != PathMedium::kWater || from == PathMedium::kWater) return entry;
-    return from == PathMedium::kAirInside ? PathEntry::kSurface
-                                          : PathEntry::kWall;
+  if (entry == PathEntry::kNone || entry == PathEntry::kInsideGlass) {
+    if (to != PathMedium::kWater || from == PathMedium::kWater) {
+      return from == PathMedium::kAirInside && to == PathMedium::kGlass
+                 ? PathEntry::kInsideGlass
+                 : entry;
+    }
+    if (from == PathMedium::kAirInside) return PathEntry::kSurface;
+    return entry == PathEntry::kInsideGlass ? PathEntry::kWallFromInside
+                                            : PathEntry::kWall;
   }
   return entry == PathEntry::kSurface ? PathEntry::kSurfaceThenGlass : entry;
 }

@@ -41,6 +41,21 @@ double MapMean(const std::vector<glm::vec3>& m, int c) {
 // on the floor and another on the board around: the floor's mean light
 // (the sky and the light through the surface, the surroundings through the
 // walls from the board's grey), the surface's return, over n^2.
+// The direct light's mean factor over the floor, as the renderer takes it:
+// the caustics map's mean with caustics on (the walls add light: above 1),
+// else 1.
+double DirectMean(const RendererOptions& o, const SceneInputs& in) {
+  if (!in.effects.caustics) return 1.0;
+  const CausticsOptions co = CausticsOptionsFor(o);
+  std::vector<float> map;
+  if (!ComputeCaustics(co, in.water, in.tank, glm::normalize(in.light_in_tank),
+                       &map, nullptr))
+    return 1.0;
+  double sum = 0;
+  for (const float v : map) sum += v;
+  return sum / map.size();
+}
+
 double FloorSeen(const RendererOptions& o, const SceneInputs& in,
                  std::uint8_t floor_grey, std::uint8_t board_grey, int rgb) {
   const TankGeometry& t = in.tank;
@@ -51,8 +66,9 @@ double FloorSeen(const RendererOptions& o, const SceneInputs& in,
       internal::WaterPass::kReturnNx, internal::WaterPass::kReturnNy,
       internal::WaterPass::kReturnRays);
   const double board = SrgbToLinear(board_grey / 255.0);
-  double light_mean =
-      sh.floor_sky[rgb] + sh.floor_sun[rgb] + MapMean(ret.sky, rgb);
+  double light_mean = sh.floor_sky[rgb] +
+                      sh.floor_sun[rgb] * DirectMean(o, in) +
+                      MapMean(ret.sky, rgb);
   for (const std::vector<glm::vec3>& b : ret.board)
     light_mean += MapMean(b, rgb) * board;
   const double back = MapMean(ret.returned, rgb);

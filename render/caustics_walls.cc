@@ -183,12 +183,12 @@ double NearWallGlassMaps(const TankGeometry& tank, double glass_thickness_m,
         splat(&surface, p.x, p.y, w.x);
         break;
       case internal::PathEntry::kSurfaceThenGlass:
-      case internal::PathEntry::kWallFromInside:
+      case internal::PathEntry::kWallIndirect:
         splat(&mirrored, p.x, p.y, w.x);
         break;
       case internal::PathEntry::kWall:  // AddWallLight's, analytically
       case internal::PathEntry::kNone:
-      case internal::PathEntry::kInsideGlass:
+      case internal::PathEntry::kGlassIndirect:
         break;
     }
   };

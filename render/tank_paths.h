@@ -43,19 +43,21 @@ enum class PathEnd { kSky, kBoard, kUnderGlass, kFloor };
 // the surface, no interface met since: the refracted light of the surface
 // alone), kSurfaceThenGlass (first through the surface, then at least one
 // more interface: mirrored by a wall, or out and back in), kWall (first
-// through a wall's inner face, having entered the glass from outside the
-// tank: light that came in through the wall), kWallFromInside (first
-// through a wall's inner face, having entered the glass from the air inside
-// the tank: light that crossed the wall above the water, was reflected by
-// its outer face and came back in below the water line). kInsideGlass: not
-// in the water yet, but in or through a wall entered from the air inside.
+// through a wall's inner face, straight from its outer face: light that
+// came in through the wall), kWallIndirect (first through a wall's inner
+// face after a reflection inside the glass or having entered it from the
+// air inside the tank: the light that crossed a wall facing away above the
+// water and came back in below the water line after its outer face's
+// reflection, and the light a wall facing the light let in after
+// reflections between its faces). kGlassIndirect: not in the water yet, in
+// or past such a reflection or entry.
 enum class PathEntry {
   kNone,
-  kInsideGlass,
+  kGlassIndirect,
   kSurface,
   kSurfaceThenGlass,
   kWall,
-  kWallFromInside
+  kWallIndirect
 };
 
 // The next interface or end of a path in one medium.
@@ -84,15 +86,17 @@ inline double IndexOf(const PathTank& t, PathMedium m) {
 // The entry state of the branch that crosses from `from` into `to` (or
 // stays, `to` == `from`, by reflection).
 inline PathEntry After(PathEntry entry, PathMedium from, PathMedium to) {
-  if (entry == PathEntry::kNone || entry == PathEntry::kInsideGlass) {
-    if (to != PathMedium::kWater || from == PathMedium::kWater) {
-      return from == PathMedium::kAirInside && to == PathMedium::kGlass
-                 ? PathEntry::kInsideGlass
-                 : entry;
+  if (entry == PathEntry::kNone || entry == PathEntry::kGlassIndirect) {
+    if (to == PathMedium::kWater && from != PathMedium::kWater) {
+      if (from == PathMedium::kAirInside) return PathEntry::kSurface;
+      return entry == PathEntry::kGlassIndirect ? PathEntry::kWallIndirect
+                                                : PathEntry::kWall;
     }
-    if (from == PathMedium::kAirInside) return PathEntry::kSurface;
-    return entry == PathEntry::kInsideGlass ? PathEntry::kWallFromInside
-                                            : PathEntry::kWall;
+    // Into a wall from the air inside the tank, or reflected inside one.
+    if (to == PathMedium::kGlass &&
+        (from == PathMedium::kAirInside || from == PathMedium::kGlass))
+      return PathEntry::kGlassIndirect;
+    return entry;
   }
   return entry == PathEntry::kSurface ? PathEntry::kSurfaceThenGlass : entry;
 }

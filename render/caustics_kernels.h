@@ -170,9 +170,11 @@ void FlatSurfaceMap(const TankGeometry& tank, const glm::dvec3& l, double ior,
 //   (below the water a wall facing away mirrors it, the glass-air face
 //   totally beyond its critical angle; a thick slab shifts it down, so it
 //   lands nearer the wall, and what reaches the slab's foot is lost to the
-//   floor), and the light that crossed the wall facing away above the
-//   water, was reflected by its outer face and came back in below the water
-//   line (it lands about a depth from that wall).
+//   floor), the light that crossed the wall facing away above the water,
+//   was reflected by its outer face and came back in below the water line
+//   (it lands about a depth from that wall), and what a wall facing the
+//   light lets in after reflections between its faces (AddWallLight adds
+//   the straight beam).
 // Texels farther from every wall than the glass can reach keep gain 1 and
 // add 0; both are overwritten over the whole map. Returns the change of
 // the surface's light in flux (CausticsSummary's units).

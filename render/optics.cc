@@ -103,6 +103,29 @@ SnellWindowShares ComputeSnellWindowShares(double n) {
   return w;
 }
 
+LowerViewReflectance ComputeLowerViewReflectance(double n) {
+  LowerViewReflectance r;
+  r.facing_down =
+      HemisphereMean([n](double mu) { return FresnelReflectance(mu, 1.0, n); });
+  // A vertical plane of normal +x: its lower view, directions d with
+  // d.x > 0 and d.z < 0, weighted by d.x; the surface met at cos = -d.z.
+  // Midpoint rule in (angle from the normal, azimuth about it).
+  constexpr int kSteps = 256;
+  double sum = 0, weight = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double theta = (i + 0.5) / kSteps * 0.5 * M_PI;
+    for (int j = 0; j < kSteps; ++j) {
+      const double phi = M_PI + (j + 0.5) / kSteps * M_PI;  // d.z < 0
+      const double dz = std::sin(theta) * std::sin(phi);
+      const double w = std::cos(theta) * std::sin(theta);
+      sum += w * FresnelReflectance(-dz, 1.0, n);
+      weight += w;
+    }
+  }
+  r.facing_side = sum / weight;
+  return r;
+}
+
 double SkyTransmittance(double n, double sigma_per_m, double depth_m) {
   return HemisphereMean([&](double mu) {
     const double ct = CosRefracted(mu, 1.0, n);

@@ -76,6 +76,19 @@ struct SnellWindowShares {
 };
 SnellWindowShares ComputeSnellWindowShares(double n);
 
+// What a plane above a flat surface (index n under air) sees of it below:
+// the surface's mean Fresnel reflectance over the plane's lower view,
+// cosine-weighted about the plane's normal, for a plane facing down (the
+// surface's diffuse reflectance from above, about 0.066 for water) and for
+// a vertical one (its lower view lies mostly near the horizon, where the
+// surface is a mirror: about 0.21). Such a plane sees the floor through
+// the water by 1 - it and the sky mirrored by it.
+struct LowerViewReflectance {
+  double facing_down = 0;
+  double facing_side = 0;
+};
+LowerViewReflectance ComputeLowerViewReflectance(double n);
+
 // Cosine-weighted hemispherical transmittance of a uniform sky through a flat
 // surface of index n into a layer of depth `depth_m` with absorption
 // `sigma_per_m`, to its floor: the mean over sky directions of

@@ -27,6 +27,10 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
     const SnellWindowShares w = ComputeSnellWindowShares(options.ior);
     SetUniform(solid_[i].Uniform("u_window"),
                glm::vec3(w.facing_up, w.facing_side, w.reflectance));
+    const LowerViewReflectance lower = ComputeLowerViewReflectance(options.ior);
+    glUniform2f(solid_[i].Uniform("u_lower_reflectance"),
+                static_cast<float>(lower.facing_side),
+                static_cast<float>(lower.facing_down));
   }
   depth_model_.Resolve(depth_);
   return true;

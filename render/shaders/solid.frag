@@ -17,6 +17,9 @@ uniform vec3 u_floor_sun;
 // the view of a plane facing up and of a vertical one, and its own mean
 // reflectance.
 uniform vec3 u_window;
+// The surface's mean reflectance over the lower view of a face above it,
+// vertical (x) and facing down (y) (optics.h, LowerViewReflectance).
+uniform vec2 u_lower_reflectance;
 uniform float u_inv_n2;
 void main() {
   vec3 n = normalize(v_n);
@@ -32,8 +35,8 @@ void main() {
   // / 2 (its view factors).
   //   In air: the sky (radiance u_ambient) above, and below the board
   //   around the tank or, over the tank, the water (the wet floor seen
-  //   through the surface, 1/n^2) and the board beyond the walls; the
-  //   light's direct share by n.l / cos(light).
+  //   through the surface, 1/n^2, and the sky it mirrors) and the board
+  //   beyond the walls; the light's direct share by n.l / cos(light).
   //   Under water: above, Snell's window (the sky through the surface, of
   //   the radiance that gives the floor what it gets from it, and the floor
   //   in the window's partial reflection) and outside it the floor totally
@@ -72,9 +75,14 @@ void main() {
   float reach = max(min(to_wall.x, to_wall.y), 1e-4);
   float height = max(v_p.z - u_tank.w, 0.0);
   float beyond = height * inversesqrt(height * height + reach * reach);
+  // The water seen from above: the wet floor through the surface and the
+  // sky it mirrors, by the surface's mean reflectance over this face's
+  // lower view (a vertical face sees it mostly near the horizon).
+  float mirror = mix(u_lower_reflectance.x, u_lower_reflectance.y,
+                     max(-n.z, 0.0));
+  vec3 water = mix(u_floor_wet * u_inv_n2, vec3(u_ambient), mirror);
   vec3 below = under ? u_floor_wet
-                     : (in_tank ? mix(u_floor_wet * u_inv_n2, u_ground, beyond)
-                                : u_ground);
+                     : (in_tank ? mix(water, u_ground, beyond) : u_ground);
   vec3 direct = under ? u_floor_sun : vec3(1.0 - u_ambient);
   vec3 light = upper + below * down + direct * diffuse;
   // Alpha 0 marks the obstacles' pixels for the water, which must not

@@ -815,13 +815,16 @@ TEST(EffectsTest, ObstacleFacesSeeTheSkyAndTheBoard) {
 
 // An obstacle standing in the tank sees, below, the water out to the walls
 // and the board beyond them: its vertical face (out of the light) reads
-// albedo x (a / 2 + ((1 - b) W / n^2 + b G) / 2), with W / n^2 the wet floor
-// as the air above the water sees it (the video's grey G lit as the water
-// lights the floor at its mean: the sky and the light through the surface,
-// the surroundings through the walls and the surface's return; FloorSeen),
-// and b = sin of the depression to the wall's foot at the water line,
-// h / sqrt(h^2 + D^2) for a point h over the water and D from the wall along
-// the face's normal. At three heights over the front wall's top.
+// albedo x (a / 2 + ((1 - b) ((1 - R) W / n^2 + R a) + b G) / 2), with
+// W / n^2 the wet floor as the air above the water sees it (the video's
+// grey G lit as the water lights the floor at its mean: the sky and the
+// light through the surface, the surroundings through the walls and the
+// surface's return; FloorSeen), R the surface's mean reflectance over a
+// vertical face's lower view (0.21: it sees the water mostly near the
+// horizon, where the surface mirrors the sky of radiance a), and b = sin of
+// the depression to the wall's foot at the water line, h / sqrt(h^2 + D^2)
+// for a point h over the water and D from the wall along the face's
+// normal. At three heights over the front wall's top.
 TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   const RendererOptions o;
@@ -851,7 +854,10 @@ TEST(EffectsTest, ObstacleInTheTankSeesTheBoardBeyondTheWalls) {
       // than the tolerance: the return and the surroundings matter here.
       ASSERT_GT(seen,
                 1.15 * g * (sh.floor_sky[rgb] + sh.floor_sun[rgb]) * sh.inv_n2);
-      const double below = (1.0 - b) * seen + b * g;
+      const double mirror =
+          ComputeLowerViewReflectance(o.optics.ior).facing_side;
+      const double water = (1.0 - mirror) * seen + mirror * a;
+      const double below = (1.0 - b) * water + b * g;
       const double want =
           255.0 * LinearToSrgb(HighlightShoulder(
                       o.obstacle_albedo[rgb] * (0.5 * a + 0.5 * below),

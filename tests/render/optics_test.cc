@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <initializer_list>
 
 namespace ripple::render {
@@ -151,6 +152,39 @@ TEST(OpticsTest, DiffuseInterfaceRelations) {
   EXPECT_NEAR(DirectTransmittance(1.0, kWater, sigma, d),
               (1 - FresnelReflectance(1.0, 1.0, kWater)) * std::exp(-sigma * d),
               1e-12);
+}
+
+// A face above the water sees the surface's reflectance over its lower
+// view: facing down, the diffuse external reflectance, 1 - that is the sky
+// transmittance (reciprocity: n^2 (1 - R_internal)); facing sideways, the
+// directions near the horizon weigh in, where the surface mirrors. The
+// vertical face's figure against a Monte Carlo estimate (cosine-weighted
+// directions about the face's normal, 400,000, fixed seed).
+TEST(OpticsTest, LowerViewReflectanceOfTheWater) {
+  const LowerViewReflectance r = ComputeLowerViewReflectance(kWater);
+  EXPECT_NEAR(1.0 - r.facing_down, SkyTransmittance(kWater, 0.0, 0.0), 1e-4);
+  EXPECT_NEAR(1.0 - r.facing_down,
+              kWater * kWater * (1.0 - DiffuseInternalReflectance(kWater)),
+              1e-4);
+  std::uint64_t state = 12345;
+  auto uniform = [&state] {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return ((state >> 11) + 0.5) * 0x1.0p-53;
+  };
+  double sum = 0;
+  int n = 0;
+  for (int k = 0; k < 400000; ++k) {
+    // Cosine-weighted about +x: (sqrt(1 - u), sqrt(u) cos phi, sqrt(u) sin
+    // phi); the lower half of them.
+    const double u = uniform(), phi = 2.0 * M_PI * uniform();
+    const double dz = std::sqrt(u) * std::sin(phi);
+    if (dz >= 0) continue;
+    sum += FresnelReflectance(-dz, 1.0, kWater);
+    ++n;
+  }
+  EXPECT_NEAR(r.facing_side, sum / n, 0.002);
+  EXPECT_GT(r.facing_side, 2.0 * r.facing_down);
+  EXPECT_NEAR(r.facing_side, 0.21, 0.01);
 }
 
 TEST(OpticsTest, WaterShadingConstants) {

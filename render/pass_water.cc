@@ -10,6 +10,7 @@
 
 #include "render/camera.h"
 #include "render/gl_state.h"
+#include "render/meshes.h"
 #include "render/shaders.h"
 #include "render/water_regions.h"
 
@@ -113,11 +114,8 @@ void WaterPass::UpdateWetBoard(const FrameState& f, bool new_tank) {
 
 void WaterPass::UpdateFloorReturn(const FrameState& f) {
   const TankGeometry& tank = f.scene->tank;
-  const bool new_tank = !floor_return_tank_ ||
-                        floor_return_tank_->size_x != tank.size_x ||
-                        floor_return_tank_->size_y != tank.size_y ||
-                        floor_return_tank_->water_level != tank.water_level ||
-                        floor_return_tank_->wall_height != tank.wall_height;
+  const bool new_tank =
+      !floor_return_tank_ || !SameTank(*floor_return_tank_, tank);
   if (new_tank) {
     floor_return_ = FloorReturnFor(options_.optics, tank);
     // The other bands' return is green's times the map's mean ratio (their

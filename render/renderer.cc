@@ -245,10 +245,7 @@ bool Renderer::Impl::Init(std::string* error) {
 
 const WaterShading& Renderer::Impl::Shading(const SceneInputs& scene) {
   const TankGeometry& t = scene.tank;
-  const bool same_tank = shading_valid && t.size_x == shading_tank.size_x &&
-                         t.size_y == shading_tank.size_y &&
-                         t.wall_height == shading_tank.wall_height &&
-                         t.water_level == shading_tank.water_level;
+  const bool same_tank = shading_valid && internal::SameTank(t, shading_tank);
   if (!same_tank) {
     under_glass_view = internal::TraceUnderGlassView(t, options.optics);
     under_glass_view.albedo = internal::kPaperRadiance;

@@ -170,8 +170,9 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
                   "full: decimation x refinement x pen mode x region search; "
                   "short: one factor at a time around the default; "
                   "default: the default setting only, no baselines; "
-                  "suspects: the corner pipeline's parts one at a time, with "
-                  "the plain SQPNP+LM baselines; smoothing: smoothing off, "
+                  "suspects: the corner pipeline's and the pen refinement's "
+                  "parts one at a time, with the plain SQPNP+LM baselines; "
+                  "smoothing: smoothing off, "
                   "on, and a grid of cut-offs")
       ->capture_default_str()
       ->check(

@@ -77,6 +77,17 @@ std::string SettingName(const tracking::TrackerOptions& o) {
   }
   if (o.pose.weight_by_view_angle != d.pose.weight_by_view_angle)
     name += o.pose.weight_by_view_angle ? " view-weights" : " no-view-weights";
+  if (o.pen_shaft.enabled && !o.pen_shaft.average_along)
+    name += " shaft-one-line";
+  if (o.pen_shaft.enabled && !o.pen_shaft.dense_prior)
+    name += " shaft-corner-prior";
+  if (o.pen_shaft.enabled && o.pen_shaft.dense_prior &&
+      o.pen_shaft.dense_information_scale !=
+          d.pen_shaft.dense_information_scale) {
+    std::snprintf(buf, sizeof(buf), " shaft-prior x%g",
+                  o.pen_shaft.dense_information_scale);
+    name += buf;
+  }
   if (o.smoothing.enabled != d.smoothing.enabled && !o.smoothing.enabled)
     name += " no-smoothing";
   if (o.smoothing.enabled) {
@@ -298,6 +309,19 @@ std::vector<std::unique_ptr<TrackingSetting>> MakeTrackingSettings(
     list.push_back(o);
     o = defaults;
     o.pen_shaft.enabled = !defaults.pen_shaft.enabled;
+    list.push_back(o);
+    // The shaft step's parts: one profile per sample, the corners' prior,
+    // the dense prior at full weight.
+    o = defaults;
+    o.pen_shaft.average_along = false;
+    list.push_back(o);
+    o = defaults;
+    o.pen_shaft.dense_prior = false;
+    list.push_back(o);
+    o.pen_shaft.average_along = false;
+    list.push_back(o);
+    o = defaults;
+    o.pen_shaft.dense_information_scale = 1.0;
     list.push_back(o);
   } else {
     list.push_back(defaults);

@@ -44,7 +44,9 @@ enum class Sweep {
   kDefault,  // the default setting only, no baselines
   // The corner pipeline's suspects, one at a time against the default:
   // no edge re-fit, no outward edge shift, other loss scales, no view-angle
-  // weights, no dense refinement; with the plain baselines.
+  // weights, no dense refinement, no shaft refinement, and the shaft step's
+  // parts (one profile per sample, the corners' prior, the dense prior at
+  // full weight); with the plain baselines.
   kSuspects,
   // Smoothing off against the default smoothing and a grid around it.
   kSmoothing,

@@ -436,6 +436,9 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   }
   std::vector<Row> trial_rows;
   trial_rows.reserve(rows.capacity());
+  // J^T W J of the last step on the fine templates, in Apply's parameters.
+  Eigen::Matrix<double, 6, 6> fine_hessian =
+      Eigen::Matrix<double, 6, 6>::Zero();
   for (int it = 0; it < options.max_iterations; ++it) {
     if (it == options.coarse_iterations && current != levels)
       use_levels(levels, true);
@@ -457,6 +460,7 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       }
     }
     hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
+    if (!coarse) fine_hessian = hessian;
     // A little damping keeps a weakly constrained direction from running off.
     hessian.diagonal() += 1e-6 * hessian.diagonal().cwiseAbs().maxCoeff() *
                           Eigen::Matrix<double, 6, 1>::Ones();
@@ -518,6 +522,17 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     return false;
   *cam_from_object = pose;
   res.refined = true;
+  // Apply's step (omega, v_a) moves the translation to exp(omega) t + v_a,
+  // which is t + v with v = v_a - [t]x omega to first order: information
+  // in (omega, v) is A^-T H A^-1 with A^-1 = [I 0; [t]x I].
+  Eigen::Matrix<double, 6, 6> a_inv = Eigen::Matrix<double, 6, 6>::Identity();
+  const Eigen::Vector3d& t = pose.translation;
+  a_inv.block<3, 3>(3, 0) << 0, -t.z(), t.y(), t.z(), 0, -t.x(), -t.y(), t.x(),
+      0;
+  // The residual's RMS (grey levels; at least one, the 8-bit step) stands
+  // for the noise: it holds the template's misfit too.
+  const double sigma2 = std::max(rms * rms, 1.0);
+  res.information = a_inv.transpose() * fine_hessian * a_inv / sigma2;
   return true;
 }
 

@@ -145,6 +145,7 @@ bool FindEdges(const cv::Mat& gray, const Camera& camera, const PenSpec& pen,
     cube.push_back(camera.Project(p));
   }
   cube = geometry::ConvexHull(cube);
+  double length_px = 0;
   {
     Eigen::Vector2d a, b, u;
     double z;
@@ -152,7 +153,20 @@ bool FindEdges(const cv::Mat& gray, const Camera& camera, const PenSpec& pen,
         !ContourPoint(camera, axis, radius, s1, 1, &b, &u, &z) ||
         (b - a).norm() < o.min_length_px)
       return false;
+    length_px = (b - a).norm();
   }
+  // Each sample's profile is the mean of `lines` parallel profiles spread
+  // over its own stretch of the contour (about one per pixel), so that the
+  // whole visible edge, not one line per sample, averages the noise. The
+  // contour is straight over a stretch, so the mean step lies where the
+  // middle profile's does.
+  const double stretch_px = length_px / o.samples_per_side;
+  const int lines =
+      o.average_along
+          ? std::clamp(static_cast<int>(std::ceil(stretch_px)), 1, 8)
+          : 1;
+  const double line_gap = lines > 1 ? stretch_px / lines : 0.0;
+  const double clearance = 2.0 + 0.5 * (lines - 1) * line_gap;
   const double step = 0.5;
   const int n = static_cast<int>(std::ceil(search_px / step)) + 1;
   const double f = 0.5 * (camera.fx + camera.fy);
@@ -171,12 +185,20 @@ bool FindEdges(const cv::Mat& gray, const Camera& camera, const PenSpec& pen,
       if (!ContourPoint(camera, axis, radius, fd.s, side ? -1 : 1, &fd.c, &fd.u,
                         &fd.depth))
         continue;
-      if (geometry::SignedDistanceToConvexPolygon(cube, fd.c) < 2.0) continue;
-      std::vector<double> v(2 * n + 3);
+      if (geometry::SignedDistanceToConvexPolygon(cube, fd.c) < clearance)
+        continue;
+      const Eigen::Vector2d tangent(-fd.u.y(), fd.u.x());
+      std::vector<double> v(2 * n + 3, 0.0);
       bool inside = true;
-      for (int j = 0; j < 2 * n + 3 && inside; ++j) {
-        const Eigen::Vector2d x = fd.c + ((j - n - 1) * step) * fd.u;
-        inside = SampleBilinear(gray, x.x(), x.y(), &v[j]);
+      for (int l = 0; l < lines && inside; ++l) {
+        const Eigen::Vector2d c =
+            fd.c + ((l - 0.5 * (lines - 1)) * line_gap) * tangent;
+        for (int j = 0; j < 2 * n + 3 && inside; ++j) {
+          const Eigen::Vector2d x = c + ((j - n - 1) * step) * fd.u;
+          double value = 0;
+          inside = SampleBilinear(gray, x.x(), x.y(), &value);
+          v[j] += value / lines;
+        }
       }
       if (!inside) continue;
       for (int pol = 0; pol < 2; ++pol) {
@@ -289,6 +311,8 @@ bool ShaftRefineOptions::IsValid(std::string* error) const {
     return fail("min_samples_per_side must be in [2, samples_per_side]");
   if (!(edge_sigma_px > 0 && corner_sigma_px > 0))
     return fail("edge_sigma_px and corner_sigma_px must be positive");
+  if (!(dense_information_scale >= 0 && dense_information_scale <= 1e3))
+    return fail("dense_information_scale must be in [0, 1000]");
   if (!(huber_px > 0)) return fail("huber_px must be positive");
   if (!(line_tolerance_px > 0))
     return fail("line_tolerance_px must be positive");
@@ -303,7 +327,7 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
                      const PenSpec& pen,
                      const std::vector<TagObservation>& corners,
                      const ShaftRefineOptions& options, Pose* cam_from_pen,
-                     ShaftRefineResult* result) {
+                     ShaftRefineResult* result, const Mat6* start_information) {
   ShaftRefineResult local;
   ShaftRefineResult& res = result ? *result : local;
   res = ShaftRefineResult();
@@ -311,8 +335,11 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
       !(pen.shaft_radius_m > 0) || !(pen.shaft_length_m > 0) || corners.empty())
     return false;
   const Pose start = *cam_from_pen;
-  const Mat6 prior = CornerInformation(camera, corners, start) /
-                     (options.corner_sigma_px * options.corner_sigma_px);
+  const Mat6 prior =
+      start_information
+          ? Mat6(options.dense_information_scale * *start_information)
+          : Mat6(CornerInformation(camera, corners, start) /
+                 (options.corner_sigma_px * options.corner_sigma_px));
   const double w_edge = 1.0 / (options.edge_sigma_px * options.edge_sigma_px);
   Pose pose = start;
   double radius = pen.shaft_radius_m;  // fitted with the pose

@@ -16,9 +16,10 @@
 // image line of the axis measures: a turn about the line of sight through
 // the cube's centre and a shift across that line of sight and the shaft.
 // Gauss-Newton on those two and the shaft's apparent radius, with the
-// edges' tangency residuals (pixels, Huber) and, as the prior, the corners'
-// information (J^T J over the detected corners, scaled by their noise)
-// projected on the two motions. The rest (the distance, the tilt towards the
+// edges' tangency residuals (pixels, Huber) and, as the prior, the starting
+// pose's information on the two motions: the dense step's where it refined
+// the pose, else the corners' (J^T J over the detected corners, scaled by
+// their noise). The rest (the distance, the tilt towards the
 // camera, the roll about the shaft) stays where the corners and the dense
 // step put it: the shaft's width and its change along the shaft measure
 // those far worse (docs/tracking.md). The edges are searched once at the
@@ -50,6 +51,10 @@ struct ShaftRefineOptions {
   // The projected shaft must be at least this long (pixels), or the view is
   // along the axis and its lines say little.
   double min_length_px = 30.0;
+  // Average each sample's profile over its stretch of the contour (about
+  // one profile per pixel of it, at most 8), or read one profile through
+  // the sample's point.
+  bool average_along = true;
   // Edge search: this far either side of the predicted contour (pixels)...
   double search_px = 4.0;
   // ... for a step of at least this much (grey levels per pixel).
@@ -63,6 +68,16 @@ struct ShaftRefineOptions {
   // weighs the shaft against the starting pose.
   double edge_sigma_px = 0.3;
   double corner_sigma_px = 0.5;
+  // The prior is the dense step's information where that step refined the
+  // pose (the tracker reads this: it holds the dense step's result), else
+  // the corners' at corner_sigma_px.
+  bool dense_prior = true;
+  // Weight of the dense step's information against the edges. That
+  // information is J^T J over the final RMS residual: it counts 3 x 3
+  // samples per cell as independent under a blur of a pixel or more, and
+  // leaves out what the step's few iterations do not take from the start.
+  // At 1 the pose's rotation is best, at 0.3 its tip (docs/tracking.md).
+  double dense_information_scale = 0.3;
   double huber_px = 1.0;  // tangency residual where the loss turns robust
   // Fit the shaft's radius with the pose (its apparent width then leaves
   // the distance to the corners), or hold it at the rig's.
@@ -83,13 +98,17 @@ struct ShaftRefineResult {
 
 // Refines `cam_from_pen` in place on an 8-bit grey image (the camera's size;
 // linear light keeps a blurred edge's steepest point where the edge is).
-// `corners` are the pen's detected tags, whose information is the prior's.
+// `corners` are the pen's detected tags. The prior is the starting pose's
+// information: `start_information` when given (the dense step's, in the
+// perturbation R' = exp(omega) R, t' = t + v, scaled by
+// dense_information_scale), else the corners' at corner_sigma_px.
 // Returns true when the pose was replaced.
-bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
-                     const PenSpec& pen,
-                     const std::vector<TagObservation>& corners,
-                     const ShaftRefineOptions& options, Pose* cam_from_pen,
-                     ShaftRefineResult* result = nullptr);
+bool ShaftRefinePose(
+    const cv::Mat& gray, const Camera& camera, const PenSpec& pen,
+    const std::vector<TagObservation>& corners,
+    const ShaftRefineOptions& options, Pose* cam_from_pen,
+    ShaftRefineResult* result = nullptr,
+    const Eigen::Matrix<double, 6, 6>* start_information = nullptr);
 
 }  // namespace ripple::tracking
 

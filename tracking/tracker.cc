@@ -437,17 +437,23 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
       cv::LUT(*gray, decode_lut_, linear_gray_);
       dense_gray = &linear_gray_;
     }
-    const bool refined = pen_estimate && gray && pen_dense_model_ &&
-                         DenseRefinePose(*dense_gray, camera_,
-                                         *pen_dense_model_, options_.pen_dense,
-                                         &pen_estimate->pose.cam_from_object);
+    DenseRefineResult dense_result;
+    const bool refined =
+        pen_estimate && gray && pen_dense_model_ &&
+        DenseRefinePose(*dense_gray, camera_, *pen_dense_model_,
+                        options_.pen_dense, &pen_estimate->pose.cam_from_object,
+                        &dense_result);
     // The shaft's edges in linear light too: a symmetric blur leaves the
-    // steepest point of a linear-light step where the step is.
+    // steepest point of a linear-light step where the step is. Its prior is
+    // the pose it starts from: the dense step's where that refined it.
     const bool shaft_refined =
         pen_estimate && gray &&
         ShaftRefinePose(*dense_gray, camera_, *rig_.pen, pen_obs,
-                        options_.pen_shaft,
-                        &pen_estimate->pose.cam_from_object);
+                        options_.pen_shaft, &pen_estimate->pose.cam_from_object,
+                        nullptr,
+                        refined && options_.pen_shaft.dense_prior
+                            ? &dense_result.information
+                            : nullptr);
     r.timings.dense_ms = NowMs() - t_dense;
     if (refined || shaft_refined) {
       int corners = 0;

@@ -39,10 +39,10 @@ TEST(TrackingBenchTest, SweepsHaveOneDefaultAndTheBaselines) {
   for (const auto& s : short_sweep) baselines += s->baseline != Baseline::kNone;
   EXPECT_EQ(baselines, 5);
   // The suspects: the default, ten changes to the corner pipeline and the
-  // pose, three baselines.
+  // pose, four to the shaft step's parts, three baselines.
   const auto suspects = MakeTrackingSettings(Sweep::kSuspects, 1);
   EXPECT_EQ(CountDefaults(suspects), 1);
-  EXPECT_EQ(suspects.size(), 11u + 3);
+  EXPECT_EQ(suspects.size(), 11u + 4 + 3);
   std::set<std::string> names;
   for (const auto& s : suspects) names.insert(s->name);
   EXPECT_EQ(names.size(), suspects.size());  // every setting named apart

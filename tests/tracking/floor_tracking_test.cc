@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 
 #include "tests/shipped_data.h"
@@ -41,6 +42,7 @@ struct FloorRun {
   int tank_tracked = 0, pen_tracked = 0;
   // Errors against ground truth over the tracked frames.
   std::vector<double> tank_rot_deg, tank_mm, pen_rot_deg, tip_mm;
+  std::map<int, double> tip_mm_by_frame;  // the same, by frame index
 
   int Tags() const {
     int n = 0;
@@ -98,6 +100,7 @@ FloorRun TrackOnFloor(synth::FloorKind kind,
         const Eigen::Vector3d tip =
             *spec.scene.tank_from_pen * rig.pen->tip_in_pen;
         run.tip_mm.push_back(1e3 * (*r.tip_in_tank - tip).norm());
+        run.tip_mm_by_frame[spec.index] = run.tip_mm.back();
       }
     }
   }
@@ -149,7 +152,29 @@ TEST(FloorTrackingTest, CleanFramesSeeTheSameBoard) {
   EXPECT_NEAR(Median(c.tiles.tank_rot_deg), Median(c.plain.tank_rot_deg), 2e-4);
   EXPECT_NEAR(Median(c.tiles.tank_mm), Median(c.plain.tank_mm), 2e-3);
   EXPECT_NEAR(Median(c.tiles.pen_rot_deg), Median(c.plain.pen_rot_deg), 0.01);
-  EXPECT_NEAR(Median(c.tiles.tip_mm), Median(c.plain.tip_mm), 0.02);
+  // The tip frame by frame: the same frames and noise on either floor, so
+  // the paired difference is the floor's alone. (The medians moved apart by
+  // 0.027 mm when the plain floor's frame 4 went from 0.157 to 0.137 mm,
+  // the same on tiles, and the ranks around the median shifted.) Measured:
+  // median 0.000 mm, mean 0.008 mm, largest 0.130 mm (frame 24, the tip
+  // over a grout line).
+  std::vector<double> tip_diff_mm;
+  for (const auto& [frame, plain_mm] : c.plain.tip_mm_by_frame) {
+    const auto tiles = c.tiles.tip_mm_by_frame.find(frame);
+    if (tiles != c.tiles.tip_mm_by_frame.end())
+      tip_diff_mm.push_back(std::abs(tiles->second - plain_mm));
+  }
+  ASSERT_GE(tip_diff_mm.size(), 28u);
+  double mean_diff_mm = 0;
+  for (double d : tip_diff_mm) mean_diff_mm += d / tip_diff_mm.size();
+  std::printf(
+      "clean: tip difference tiles - plain per frame: median %.4f mm, "
+      "mean %.4f mm, largest %.4f mm\n",
+      Median(tip_diff_mm), mean_diff_mm,
+      *std::max_element(tip_diff_mm.begin(), tip_diff_mm.end()));
+  EXPECT_LT(Median(tip_diff_mm), 0.005);
+  EXPECT_LT(mean_diff_mm, 0.02);
+  EXPECT_NEAR(Median(c.tiles.tip_mm), Median(c.plain.tip_mm), 0.04);
 }
 
 TEST(FloorTrackingTest, BenchmarkFramesGiveTheSameErrors) {

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <opencv2/imgproc.hpp>
 #include <string>
 #include <vector>
 
@@ -28,6 +29,38 @@ inline std::vector<synth::FrameSpec> SynthSpecs(const tracking::Camera& camera,
   std::string error;
   EXPECT_TRUE(synth::MakeSequence(camera, rig, seq, &specs, &error)) << error;
   return specs;
+}
+
+// A rendered frame with the pen's tags in view: its grey image and truth.
+struct PenView {
+  int index = 0;  // the spec's frame index
+  cv::Mat gray;
+  tracking::Pose cam_from_pen;
+  std::vector<int> pen_tags;  // ids whose whole black square is visible
+};
+
+// Renders `specs` (each with its own imaging, or `imaging` when given) and
+// keeps those with the pen's tags in view, at most `max_views`.
+inline std::vector<PenView> RenderPenViews(
+    const tracking::Camera& camera, const tracking::Rig& rig,
+    const std::vector<synth::FrameSpec>& specs,
+    const synth::ImagingOptions* imaging = nullptr, size_t max_views = 1000) {
+  synth::SceneRenderer renderer(camera, rig);
+  std::vector<PenView> views;
+  for (const synth::FrameSpec& spec : specs) {
+    if (views.size() >= max_views) break;
+    if (!spec.scene.tank_from_pen) continue;
+    synth::RenderedFrame frame = renderer.Render(
+        spec.scene, imaging ? *imaging : spec.imaging, spec.noise_seed);
+    if (frame.pen_tags.empty()) continue;
+    PenView v;
+    v.index = spec.index;
+    cv::cvtColor(frame.image, v.gray, cv::COLOR_BGR2GRAY);
+    v.cam_from_pen = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+    v.pen_tags = std::move(frame.pen_tags);
+    views.push_back(std::move(v));
+  }
+  return views;
 }
 
 }  // namespace ripple::test_data

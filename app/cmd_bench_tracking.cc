@@ -172,8 +172,7 @@ CommandAction SetupBenchTracking(CLI::App* sub) {
                   "default: the default setting only, no baselines; "
                   "suspects: the corner pipeline's and the pen refinement's "
                   "parts one at a time, with the plain SQPNP+LM baselines; "
-                  "smoothing: smoothing off, "
-                  "on, and a grid of cut-offs")
+                  "smoothing: smoothing off, on, and a grid of cut-offs")
       ->capture_default_str()
       ->check(
           CLI::IsMember({"full", "short", "default", "suspects", "smoothing"}));

@@ -436,9 +436,11 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   }
   std::vector<Row> trial_rows;
   trial_rows.reserve(rows.capacity());
-  // J^T W J of the last step on the fine templates, in Apply's parameters.
+  // J^T W J of the last step on the fine templates (of the last coarse one
+  // if no fine step ran), in Apply's parameters.
   Eigen::Matrix<double, 6, 6> fine_hessian =
       Eigen::Matrix<double, 6, 6>::Zero();
+  bool fine_seen = false;
   for (int it = 0; it < options.max_iterations; ++it) {
     if (it == options.coarse_iterations && current != levels)
       use_levels(levels, true);
@@ -460,7 +462,8 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       }
     }
     hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
-    if (!coarse) fine_hessian = hessian;
+    if (!coarse || !fine_seen) fine_hessian = hessian;
+    fine_seen = fine_seen || !coarse;
     // A little damping keeps a weakly constrained direction from running off.
     hessian.diagonal() += 1e-6 * hessian.diagonal().cwiseAbs().maxCoeff() *
                           Eigen::Matrix<double, 6, 1>::Ones();

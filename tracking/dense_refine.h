@@ -75,7 +75,7 @@ struct DenseRefineResult {
   std::vector<double> blur_levels;
   double rms_before_dn = 0, rms_after_dn = 0;  // photometric RMS residual
   // The refined pose's information from its photometric residuals (J^T W J
-  // of the last iteration over the final RMS residual squared), in the
+  // of the last fine iteration over the final RMS residual squared), in the
   // perturbation R' = exp(omega) R, t' = t + v of (omega, v); zero when the
   // pose was not replaced.
   Eigen::Matrix<double, 6, 6> information = Eigen::Matrix<double, 6, 6>::Zero();

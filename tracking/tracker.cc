@@ -110,6 +110,10 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!pose.IsValid(error)) return false;
   if (!pen_dense.IsValid(error)) return false;
   if (!pen_shaft.IsValid(error)) return false;
+  if (pen_rest_iterations < 0 || pen_rest_iterations > 50)
+    return fail("pen_rest_iterations must be in [0, 50]");
+  if (!(pen_rest_motion_px >= 0) || !(pen_rest_gap_s >= 0))
+    return fail("pen_rest_motion_px and pen_rest_gap_s must be >= 0");
   if (!smoothing.IsValid(error)) return false;
   if (!pen_hypotheses.IsValid(error)) return false;
   if (!roi.IsValid(error)) return false;
@@ -166,6 +170,7 @@ void Tracker::Reset() {
   roi_search_.Reset();
   frame_ = 0;
   last_corners_.clear();
+  last_corners_time_s_.reset();
 }
 
 bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
@@ -405,6 +410,22 @@ void Tracker::UpdateObject(const std::optional<Estimate>& estimate,
   out->status = TrackStatus::kLost;
 }
 
+bool Tracker::PenAtRest(const std::vector<TagObservation>& obs,
+                        double time_s) const {
+  if (obs.empty() || !last_corners_time_s_ ||
+      !(time_s > *last_corners_time_s_) ||
+      !(time_s - *last_corners_time_s_ <= options_.pen_rest_gap_s))
+    return false;
+  for (const TagObservation& o : obs) {
+    const auto last = last_corners_.find(o.id);
+    if (last == last_corners_.end()) return false;
+    for (int k = 0; k < 4; ++k)
+      if ((last->second[k] - o.pixels[k]).norm() > options_.pen_rest_motion_px)
+        return false;
+  }
+  return true;
+}
+
 FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
                             double time_s, const cv::Mat* gray) {
   FrameResult r;
@@ -437,12 +458,15 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
       cv::LUT(*gray, decode_lut_, linear_gray_);
       dense_gray = &linear_gray_;
     }
+    DenseRefineOptions dense_options = options_.pen_dense;
+    if (pen_estimate && PenAtRest(pen_obs, time_s))
+      dense_options.max_iterations =
+          std::max(dense_options.max_iterations, options_.pen_rest_iterations);
     DenseRefineResult dense_result;
     const bool refined =
         pen_estimate && gray && pen_dense_model_ &&
-        DenseRefinePose(*dense_gray, camera_, *pen_dense_model_,
-                        options_.pen_dense, &pen_estimate->pose.cam_from_object,
-                        &dense_result);
+        DenseRefinePose(*dense_gray, camera_, *pen_dense_model_, dense_options,
+                        &pen_estimate->pose.cam_from_object, &dense_result);
     // The shaft's edges in linear light too: a symmetric blur leaves the
     // steepest point of a linear-light step where the step is. Its prior is
     // the pose it starts from: the dense step's where that refined it.
@@ -473,6 +497,7 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
   }
   last_corners_.clear();
   for (const TagDetection& d : detections) last_corners_[d.id] = d.corners;
+  last_corners_time_s_ = time_s;
   return r;
 }
 

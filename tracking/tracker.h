@@ -146,6 +146,17 @@ struct TrackerOptions {
   // the image: Track() applies it, TrackDetections() when given the grey
   // frame.
   DenseRefineOptions pen_dense;
+  // Gauss-Newton iterations of the dense step on a pen at rest: when each
+  // of its tags' detected corners lies within pen_rest_motion_px of the
+  // same corner in the last frame (at most pen_rest_gap_s before). Without
+  // motion blur the photometric optimum is unbiased, so iterating on takes
+  // more of the corner pose's noise out; under motion blur an isotropic
+  // template's optimum is biased, so a moving pen keeps
+  // pen_dense.max_iterations (docs/tracking.md, "Iterating on a pen at
+  // rest").
+  int pen_rest_iterations = 3;
+  double pen_rest_motion_px = 0.5;
+  double pen_rest_gap_s = 0.1;
 
   // Refinement of the pen's pose by its shaft's silhouette edges
   // (tracking/shaft_refine.h), after the dense step; needs the image as the
@@ -200,6 +211,9 @@ class Tracker {
   };
 
   bool IsCut(const std::vector<TagDetection>& detections) const;
+  // Whether the pen's detected corners `obs` lie where the last frame's
+  // detections of the same tags did (TrackerOptions::pen_rest_motion_px).
+  bool PenAtRest(const std::vector<TagObservation>& obs, double time_s) const;
   std::optional<Estimate> EstimateTank(const std::vector<TagObservation>& obs,
                                        bool use_prior) const;
   std::optional<Estimate> EstimatePen(const std::vector<TagObservation>& obs,
@@ -246,6 +260,7 @@ class Tracker {
   RoiSearch roi_search_;
   int frame_ = 0;
   std::map<int, std::array<Eigen::Vector2d, 4>> last_corners_;
+  std::optional<double> last_corners_time_s_;  // the frame they are from
 };
 
 }  // namespace ripple::tracking

@@ -731,6 +731,13 @@ TEST(TrackerOptionsTest, Validates) {
   options.max_single_tag_rmse_cells = 0;
   EXPECT_FALSE(options.IsValid(&error));
   EXPECT_NE(error.find("max_single_tag_rmse_cells"), std::string::npos);
+  options = TrackerOptions{};
+  options.pen_rest_iterations = -1;
+  EXPECT_FALSE(options.IsValid(&error));
+  EXPECT_NE(error.find("pen_rest_iterations"), std::string::npos);
+  options = TrackerOptions{};
+  options.pen_rest_motion_px = NAN;
+  EXPECT_FALSE(options.IsValid(&error));
   EXPECT_EQ(ParsePenMode("best-face"), PenMode::kBestFace);
   EXPECT_FALSE(ParsePenMode("best"));
 }

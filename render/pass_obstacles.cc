@@ -15,6 +15,10 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
       !BuildProgram(&depth_, "depth", "solid.vert", "depth.frag", "", error)) {
     return false;
   }
+  // The surface's view factors depend on its index only: computed once for
+  // both variants.
+  const SnellWindowShares w = ComputeSnellWindowShares(options.ior);
+  const LowerViewReflectance lower = ComputeLowerViewReflectance(options.ior);
   for (int i = 0; i < 2; ++i) {
     solid_common_[i].Resolve(solid_[i]);  // leaves solid_[i] bound
     solid_model_[i].Resolve(solid_[i]);
@@ -24,10 +28,8 @@ bool ObstaclesPass::Create(const Options& options, std::string* error) {
     floor_sky_[i] = solid_[i].Uniform("u_floor_sky");
     floor_sun_[i] = solid_[i].Uniform("u_floor_sun");
     inv_n2_[i] = solid_[i].Uniform("u_inv_n2");
-    const SnellWindowShares w = ComputeSnellWindowShares(options.ior);
     SetUniform(solid_[i].Uniform("u_window"),
                glm::vec3(w.facing_up, w.facing_side, w.reflectance));
-    const LowerViewReflectance lower = ComputeLowerViewReflectance(options.ior);
     glUniform2f(solid_[i].Uniform("u_lower_reflectance"),
                 static_cast<float>(lower.facing_side),
                 static_cast<float>(lower.facing_down));

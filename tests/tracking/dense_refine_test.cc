@@ -277,15 +277,14 @@ TEST(DenseRefineTest, InformationDoesNotOverstateThePrecision) {
     Eigen::Matrix<double, 6, 6> information =
         Eigen::Matrix<double, 6, 6>::Zero();
     for (uint64_t draw = 0; draw < 32; ++draw) {
-      const synth::RenderedFrame frame =
-          renderer.Render(spec.scene, imaging, 1000 + draw);
-      if (frame.pen_tags.empty()) break;
-      cv::Mat gray;
-      cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
+      test_data::PenView view;
+      if (!test_data::RenderPenView(renderer, spec, imaging, 1000 + draw,
+                                    &view))
+        break;
       Pose refined = truth;
       DenseRefineResult result;
-      if (!DenseRefinePose(gray, camera, *model, DenseRefineOptions{}, &refined,
-                           &result))
+      if (!DenseRefinePose(view.gray, camera, *model, DenseRefineOptions{},
+                           &refined, &result))
         continue;
       EXPECT_TRUE(result.information.allFinite());
       information += result.information;

@@ -147,14 +147,13 @@ std::vector<double> TurnSpreadsOverNoise(const ShaftRefineOptions& options,
     const Eigen::Vector3d sight = truth.translation.normalized();
     std::vector<double> turns;
     for (int d = 0; d < draws; ++d) {
-      const synth::RenderedFrame frame =
-          renderer.Render(spec.scene, imaging, 500 + d);
-      if (frame.pen_tags.empty()) break;
-      cv::Mat gray;
-      cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
+      test_data::PenView view;
+      if (!test_data::RenderPenView(renderer, spec, imaging, 500 + d, &view))
+        break;
       Pose refined = truth;
-      const auto corners = ExactCorners(camera, rig, truth, frame.pen_tags);
-      if (!ShaftRefinePose(gray, camera, *rig.pen, corners, options, &refined))
+      const auto corners = ExactCorners(camera, rig, truth, view.pen_tags);
+      if (!ShaftRefinePose(view.gray, camera, *rig.pen, corners, options,
+                           &refined))
         continue;
       const Eigen::AngleAxisd turn(refined.rotation *
                                    truth.rotation.conjugate());

@@ -39,6 +39,22 @@ struct PenView {
   std::vector<int> pen_tags;  // ids whose whole black square is visible
 };
 
+// Renders `spec`'s scene with `imaging` and noise `noise_seed`; false when
+// the scene has no pen or none of its tags is in view.
+inline bool RenderPenView(const synth::SceneRenderer& renderer,
+                          const synth::FrameSpec& spec,
+                          const synth::ImagingOptions& imaging,
+                          uint64_t noise_seed, PenView* view) {
+  if (!spec.scene.tank_from_pen) return false;
+  synth::RenderedFrame frame = renderer.Render(spec.scene, imaging, noise_seed);
+  if (frame.pen_tags.empty()) return false;
+  view->index = spec.index;
+  cv::cvtColor(frame.image, view->gray, cv::COLOR_BGR2GRAY);
+  view->cam_from_pen = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
+  view->pen_tags = std::move(frame.pen_tags);
+  return true;
+}
+
 // Renders `specs` (each with its own imaging, or `imaging` when given) and
 // keeps those with the pen's tags in view, at most `max_views`.
 inline std::vector<PenView> RenderPenViews(
@@ -49,16 +65,10 @@ inline std::vector<PenView> RenderPenViews(
   std::vector<PenView> views;
   for (const synth::FrameSpec& spec : specs) {
     if (views.size() >= max_views) break;
-    if (!spec.scene.tank_from_pen) continue;
-    synth::RenderedFrame frame = renderer.Render(
-        spec.scene, imaging ? *imaging : spec.imaging, spec.noise_seed);
-    if (frame.pen_tags.empty()) continue;
     PenView v;
-    v.index = spec.index;
-    cv::cvtColor(frame.image, v.gray, cv::COLOR_BGR2GRAY);
-    v.cam_from_pen = spec.scene.cam_from_tank * *spec.scene.tank_from_pen;
-    v.pen_tags = std::move(frame.pen_tags);
-    views.push_back(std::move(v));
+    if (RenderPenView(renderer, spec, imaging ? *imaging : spec.imaging,
+                      spec.noise_seed, &v))
+      views.push_back(std::move(v));
   }
   return views;
 }

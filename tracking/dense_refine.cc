@@ -59,6 +59,46 @@ double BlurredBitmap(const TagBitmap& b, double u, double v, double s) {
   return total > 0 ? sum / total : 1.0;
 }
 
+// Second derivatives (uu, uv, vv) of BlurredBitmap at (u, v), in closed
+// form: each cell's weight is a product of two erf differences, whose
+// derivatives are Gaussians.
+std::array<double, 3> BlurredBitmapCurvature(const TagBitmap& b, double u,
+                                             double v, double s) {
+  const int reach = static_cast<int>(std::ceil(4 * s)) + 1;
+  const int c0 = static_cast<int>(std::floor(u)) - reach;
+  const int r0 = static_cast<int>(std::floor(v)) - reach;
+  const int n = 2 * reach + 1;
+  const double k = 1.0 / (s * std::sqrt(2.0));
+  const double norm = k / std::sqrt(M_PI);
+  // Weight of the cell [a, a + 1] at x and its first two derivatives in x.
+  auto weights = [&](double x, double a, double* w, double* d1, double* d2) {
+    const double p = (a - x) * k, q = (a + 1 - x) * k;
+    const double ep = std::exp(-p * p), eq = std::exp(-q * q);
+    *w = 0.5 * (std::erf(q) - std::erf(p));
+    *d1 = norm * (ep - eq);
+    *d2 = norm * 2 * k * (p * ep - q * eq);
+  };
+  std::vector<double> wr(n), dr(n), ddr(n), wc(n), dc(n), ddc(n);
+  for (int i = 0; i < n; ++i) {
+    weights(v, r0 + i, &wr[i], &dr[i], &ddr[i]);
+    weights(u, c0 + i, &wc[i], &dc[i], &ddc[i]);
+  }
+  std::array<double, 3> h{0, 0, 0};
+  for (int i = 0; i < n; ++i) {
+    const int r = r0 + i;
+    for (int j = 0; j < n; ++j) {
+      const int c = c0 + j;
+      const bool inside =
+          r >= 0 && c >= 0 && r < b.total_width && c < b.total_width;
+      if (inside && b.black(r, c)) continue;  // black adds 0
+      h[0] += wr[i] * ddc[j];
+      h[1] += dr[i] * dc[j];
+      h[2] += ddr[i] * wc[j];
+    }
+  }
+  return h;
+}
+
 // Bilinear sample with the image gradient at (x, y): central differences
 // over +-1 pixel, themselves bilinear. The caller keeps (x, y) at least 1.5
 // pixels inside the image.
@@ -119,8 +159,57 @@ BlurLevel MakeBlurLevel(double level) {
   return b;
 }
 
-double TemplateValue(const DenseTagModel::Sample& s, const BlurLevel& b) {
-  return (1 - b.w) * s.value[b.lo] + b.w * s.value[b.hi];
+// The part of a face's blur that is not round, in the tag plane (cells
+// squared): D = Sigma - (tr Sigma / 2) I with Sigma the image's round blur
+// pulled back onto the face, scaled so that its round part is the level's
+// own blur. Stored as (D_uu, D_uv, D_vv); zero for a frontal face.
+using BlurShape = Eigen::Vector3d;
+
+double LevelSigmaCells(const BlurLevel& b) {
+  return (1 - b.w) * DenseTagModel::kBlurCells[b.lo] +
+         b.w * DenseTagModel::kBlurCells[b.hi];
+}
+
+// D for a round part of one cell squared: 2 M / tr M - I, where M = A^-1
+// A^-T is a round blur of one pixel squared seen in the tag plane through
+// the face's local affine map A (pixels per cell along u and v).
+BlurShape UnitBlurShape(const Camera& camera, const DenseTagModel::Face& face,
+                        const Pose& pose) {
+  const Eigen::Vector3d c = pose * face.centre;
+  if (c.z() < 1e-3) return BlurShape::Zero();
+  Eigen::Matrix<double, 2, 3> dpix;
+  camera.ProjectWithJacobian(c, &dpix);
+  Eigen::Matrix2d a;
+  a.col(0) = dpix * (pose.R() * face.cell_u);
+  a.col(1) = dpix * (pose.R() * face.cell_v);
+  if (!(std::abs(a.determinant()) > 1e-12)) return BlurShape::Zero();
+  const Eigen::Matrix2d a_inv = a.inverse();
+  const Eigen::Matrix2d m = a_inv * a_inv.transpose();
+  const Eigen::Matrix2d d = m / (0.5 * m.trace()) - Eigen::Matrix2d::Identity();
+  return BlurShape(d(0, 0), d(0, 1), d(1, 1));
+}
+
+BlurShape FaceBlurShape(const Camera& camera, const DenseTagModel::Face& face,
+                        const Pose& pose, const BlurLevel& b) {
+  return std::pow(LevelSigmaCells(b), 2) * UnitBlurShape(camera, face, pose);
+}
+
+// The template value at a sample: the level's round template, corrected by
+// the blur's non-round part D to first order. Gaussian blur follows the heat
+// equation, dT/dSigma_ij = 1/2 d2T/dx_i dx_j, so T(Sigma + D) ~ T(Sigma) +
+// 1/2 (D_uu T_uu + 2 D_uv T_uv + D_vv T_vv).
+double TemplateValue(const DenseTagModel::Sample& s, const BlurLevel& b,
+                     const BlurShape& d = BlurShape::Zero()) {
+  double t = (1 - b.w) * s.value[b.lo] + b.w * s.value[b.hi];
+  if (d.isZero()) return t;
+  for (int k = 0; k < 2; ++k) {
+    const int l = k == 0 ? b.lo : b.hi;
+    const double w = k == 0 ? 1 - b.w : b.w;
+    if (w == 0) continue;
+    const auto& c = s.curvature[l];
+    t += w * 0.5 * (d(0) * c[0] + 2 * d(1) * c[1] + d(2) * c[2]);
+  }
+  return t;
 }
 
 // Samples every face of `faces` at `pose`: the image value of each sample
@@ -129,21 +218,25 @@ double TemplateValue(const DenseTagModel::Sample& s, const BlurLevel& b) {
 void Linearise(const cv::Mat& gray, const Camera& camera,
                const DenseTagModel& model, const std::vector<int>& faces,
                const std::vector<double>& levels, const Pose& pose,
-               bool jacobian, std::vector<Row>* rows) {
+               bool jacobian, bool anisotropic, std::vector<Row>* rows) {
   rows->clear();
   const Eigen::Matrix3d r = pose.R();
   // The gradient's taps (+-1 px) must be inside the image too.
   const double x_max = gray.cols - 3, y_max = gray.rows - 3;
   for (size_t f = 0; f < faces.size(); ++f) {
     const BlurLevel blur = MakeBlurLevel(levels[f]);
-    for (const DenseTagModel::Sample& s : model.faces()[faces[f]].samples) {
+    const DenseTagModel::Face& face = model.faces()[faces[f]];
+    const BlurShape shape = anisotropic && levels[f] >= 0
+                                ? FaceBlurShape(camera, face, pose, blur)
+                                : BlurShape::Zero();
+    for (const DenseTagModel::Sample& s : face.samples) {
       if (!(s.informative & blur.mask)) continue;
       const Eigen::Vector3d p = r * s.point + pose.translation;
       if (p.z() < 1e-3) continue;
       Row row;
       row.face = static_cast<int>(f);
       row.sample = &s;
-      row.t = TemplateValue(s, blur);
+      row.t = TemplateValue(s, blur, shape);
       if (!jacobian) {
         const Eigen::Vector2d uv = camera.Project(p);
         if (!(uv.x() >= 1 && uv.y() >= 1 && uv.x() < x_max && uv.y() < y_max))
@@ -276,6 +369,8 @@ std::optional<DenseTagModel> DenseTagModel::Create(
     const int total = bitmap->total_width;
     const double border = 0.5 * (total - bitmap->width_at_border);
     const double cell_m = tag.edge_m / bitmap->width_at_border;
+    face.cell_u = cell_m * tag.object_from_tag.R().col(0);
+    face.cell_v = cell_m * tag.object_from_tag.R().col(1);
     const int n = options.samples_per_cell;
     const double h = 0.05;  // cells, for the template gradient
     // Samples over the bitmap less the outer half cell (beyond it lies the
@@ -298,6 +393,11 @@ std::optional<DenseTagModel> DenseTagModel::Create(
             sample.informative |= 1u << l;
           sample.value[l] =
               static_cast<float>(BlurredBitmap(*bitmap, u, v, sl));
+          const std::array<double, 3> c =
+              BlurredBitmapCurvature(*bitmap, u, v, sl);
+          sample.curvature[l] = {static_cast<float>(c[0]),
+                                 static_cast<float>(c[1]),
+                                 static_cast<float>(c[2])};
         }
         if (sample.informative == 0) continue;
         const Eigen::Vector3d in_tag((u - border) * cell_m - 0.5 * tag.edge_m,
@@ -343,7 +443,7 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   {
     // Every sample (level -1), values only.
     Linearise(gray, camera, model, faces, std::vector<double>(nf, -1), start,
-              false, &rows);
+              false, false, &rows);
     // One pass: per face the moments of the image and the five templates,
     // from which the line fit of any blend follows.
     constexpr int kL = DenseTagModel::kBlurLevels;
@@ -354,11 +454,27 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       Eigen::Matrix<double, kL, kL> vv = Eigen::Matrix<double, kL, kL>::Zero();
     };
     std::vector<Moments> moments(nf);
+    // Each level's template blurred as the image is (its non-round part
+    // for that level's own round blur).
+    std::vector<BlurShape> unit(nf, BlurShape::Zero());
+    if (options.anisotropic_blur) {
+      for (int f = 0; f < nf; ++f)
+        unit[f] = UnitBlurShape(camera, model.faces()[faces[f]], start);
+    }
     for (const Row& r : rows) {
       Moments& m = moments[r.face];
-      const Vec v =
+      Vec v =
           Eigen::Map<const Eigen::Matrix<float, kL, 1>>(r.sample->value.data())
               .cast<double>();
+      const BlurShape& u = unit[r.face];
+      if (!u.isZero()) {
+        for (int l = 0; l < kL; ++l) {
+          const auto& c = r.sample->curvature[l];
+          const double s2 =
+              DenseTagModel::kBlurCells[l] * DenseTagModel::kBlurCells[l];
+          v(l) += 0.5 * s2 * (u(0) * c[0] + 2 * u(1) * c[1] + u(2) * c[2]);
+        }
+      }
       m.n += 1;
       m.i += r.i;
       m.ii += r.i * r.i;
@@ -404,7 +520,14 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
                        return !(r.sample->informative & blur[r.face].mask);
                      }),
       rows.end());
-  for (Row& r : rows) r.t = TemplateValue(*r.sample, blur[r.face]);
+  std::vector<BlurShape> shapes(nf, BlurShape::Zero());
+  if (options.anisotropic_blur) {
+    for (int f = 0; f < nf; ++f)
+      shapes[f] =
+          FaceBlurShape(camera, model.faces()[faces[f]], start, blur[f]);
+  }
+  for (Row& r : rows)
+    r.t = TemplateValue(*r.sample, blur[r.face], shapes[r.face]);
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);
   double cost0, rms0;
   int n0;
@@ -424,7 +547,8 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   // Switches templates (and with them the informative samples) at `pose`.
   auto use_levels = [&](const std::vector<double>& lv, bool jacobian) {
     current = lv;
-    Linearise(gray, camera, model, faces, lv, pose, jacobian, &rows);
+    Linearise(gray, camera, model, faces, lv, pose, jacobian,
+              options.anisotropic_blur, &rows);
     fit = FitGains(rows, nf, 0.0);
     for (int f = 0; f < nf; ++f) fit.usable[f] = fit.usable[f] && usable[f];
     Cost(rows, fit, options.huber_dn, &cost, &rms, &n);
@@ -474,7 +598,8 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     double scale = 1.0;
     for (int tries = 0; tries < 4; ++tries, scale *= 0.5) {
       const Pose trial = Apply(pose, scale * step);
-      Linearise(gray, camera, model, faces, current, trial, false, &trial_rows);
+      Linearise(gray, camera, model, faces, current, trial, false,
+                options.anisotropic_blur, &trial_rows);
       Fit trial_fit = FitGains(trial_rows, nf, 0.0);
       for (int f = 0; f < nf; ++f)
         trial_fit.usable[f] = trial_fit.usable[f] && usable[f];
@@ -507,7 +632,8 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     const bool switching =
         it + 1 == options.coarse_iterations && current != levels;
     if (improved && it + 1 < options.max_iterations && !switching)
-      Linearise(gray, camera, model, faces, current, pose, true, &rows);
+      Linearise(gray, camera, model, faces, current, pose, true,
+                options.anisotropic_blur, &rows);
   }
   // The final cost must be on the fine templates to compare with the start.
   if (current != levels) use_levels(levels, false);

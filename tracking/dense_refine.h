@@ -58,6 +58,14 @@ struct DenseRefineOptions {
   // (coarse to fine; a sharp template's basin is about a pixel wide).
   int coarse_iterations = 1;
   double huber_dn = 6.0;  // residual (grey levels) where the loss turns robust
+  // The image's blur is round in pixels, so on a face seen obliquely it is
+  // stretched in the tag plane across the foreshortened direction. With
+  // this, each face's template is blurred that way (its round blur level
+  // corrected to first order by the templates' second derivatives); without
+  // it the template's blur is round in the tag plane, too sharp across the
+  // foreshortening and too wide along it, which biases a small face's
+  // fitted scale: its distance.
+  bool anisotropic_blur = true;
   // The refined pose must stay this close to the starting one.
   double max_rotation_deg = 8.0;
   double max_translation_m = 0.01;
@@ -103,11 +111,16 @@ class DenseTagModel {
     // Bit l: the level-l template's gradient reaches min_template_gradient
     // here (only such samples carry pose information at that level).
     unsigned informative = 0;
+    // Second derivatives of each level's template in the tag plane (per
+    // cell squared): uu, uv, vv (u along the bitmap's columns, v its rows).
+    std::array<std::array<float, 3>, kBlurLevels> curvature{};
   };
   struct Face {
     int id = -1;
     Eigen::Vector3d centre;  // object frame
     Eigen::Vector3d normal;  // object frame, out of the face (towards a viewer)
+    // One cell along the bitmap's columns (u) and rows (v), object frame.
+    Eigen::Vector3d cell_u, cell_v;
     std::vector<Sample> samples;
   };
   const std::vector<Face>& faces() const { return faces_; }

@@ -26,6 +26,8 @@ bool DenseRefineOptions::IsValid(std::string* error) const {
   if (coarse_iterations < 0 || coarse_iterations >= max_iterations)
     return fail("coarse_iterations must be in [0, max_iterations)");
   if (!(huber_dn > 0)) return fail("huber_dn must be positive");
+  if (!(outlier_spreads >= 0 && outlier_min_dn >= 0))
+    return fail("outlier_spreads and outlier_min_dn must be non-negative");
   if (!(max_rotation_deg > 0 && max_translation_m > 0))
     return fail("max_rotation_deg and max_translation_m must be positive");
   return true;
@@ -292,20 +294,37 @@ struct LineSums {
   }
 };
 
-// Per-face least-squares gain and offset (image = gain * template +
-// offset); a face is usable when its gain (the black-to-white contrast) is
-// at least `min_contrast`.
-Fit FitGains(const std::vector<Row>& rows, int num_faces, double min_contrast) {
-  std::vector<LineSums> sums(num_faces);
-  for (const Row& r : rows) sums[r.face].Add(r.t, r.i);
+// Per-face gain and offset (image = gain * template + offset) by least
+// squares: over all rows, then, with a finite `clip`, twice more over the
+// rows within `clip` grey levels of the last line (an occluder's samples
+// then do not set the face's contrast). A face is usable when its gain (the
+// black-to-white contrast) is at least `min_contrast`.
+Fit FitGains(const std::vector<Row>& rows, int num_faces, double min_contrast,
+             double clip = std::numeric_limits<double>::infinity()) {
   Fit fit;
   fit.gain.assign(num_faces, 0);
   fit.offset.assign(num_faces, 0);
   fit.usable.assign(num_faces, false);
-  for (int f = 0; f < num_faces; ++f) {
-    if (!sums[f].Solve(&fit.gain[f], &fit.offset[f])) continue;
-    fit.usable[f] = fit.gain[f] >= min_contrast;
+  std::vector<bool> solved(num_faces, false);
+  const int rounds = std::isfinite(clip) ? 3 : 1;
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<LineSums> sums(num_faces);
+    for (const Row& r : rows) {
+      if (round > 0 && solved[r.face] &&
+          std::abs(r.i - (fit.gain[r.face] * r.t + fit.offset[r.face])) > clip)
+        continue;
+      sums[r.face].Add(r.t, r.i);
+    }
+    for (int f = 0; f < num_faces; ++f) {
+      double gain, offset;
+      if (!sums[f].Solve(&gain, &offset)) continue;
+      fit.gain[f] = gain;
+      fit.offset[f] = offset;
+      solved[f] = true;
+    }
   }
+  for (int f = 0; f < num_faces; ++f)
+    fit.usable[f] = solved[f] && fit.gain[f] >= min_contrast;
   return fit;
 }
 
@@ -314,20 +333,26 @@ double HuberCost(double r, double k) {
   return a <= k ? 0.5 * r * r : k * (a - 0.5 * k);
 }
 
-// Robust cost and RMS of the rows of usable faces.
+// Robust cost of the rows of usable faces (`n` of them): Huber's loss,
+// constant beyond `clip` (a residual that large is an occluder, not a
+// misalignment); and the RMS of the residuals within `clip`.
 void Cost(const std::vector<Row>& rows, const Fit& fit, double huber,
-          double* cost, double* rms, int* n) {
+          double clip, double* cost, double* rms, int* n) {
   *cost = 0;
   double sq = 0;
+  int inliers = 0;
   *n = 0;
   for (const Row& r : rows) {
     if (!fit.usable[r.face]) continue;
     const double e = r.i - (fit.gain[r.face] * r.t + fit.offset[r.face]);
-    *cost += HuberCost(e, huber);
-    sq += e * e;
+    *cost += HuberCost(std::min(std::abs(e), clip), huber);
     ++*n;
+    if (std::abs(e) <= clip) {
+      sq += e * e;
+      ++inliers;
+    }
   }
-  *rms = *n > 0 ? std::sqrt(sq / *n) : 0;
+  *rms = inliers > 0 ? std::sqrt(sq / inliers) : 0;
 }
 
 // Template blur of the coarse phase (an index into kBlurCells).
@@ -529,9 +554,28 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   for (Row& r : rows)
     r.t = TemplateValue(*r.sample, blur[r.face], shapes[r.face]);
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);
+  // Residuals beyond `clip` are taken as occluded: a robust spread of the
+  // start's residuals (1.4826 times their median absolute value), scaled.
+  double clip = std::numeric_limits<double>::infinity();
+  if (options.outlier_spreads > 0) {
+    std::vector<double> abs_res;
+    abs_res.reserve(rows.size());
+    for (const Row& r : rows) {
+      if (fit.usable[r.face])
+        abs_res.push_back(
+            std::abs(r.i - (fit.gain[r.face] * r.t + fit.offset[r.face])));
+    }
+    if (!abs_res.empty()) {
+      auto mid = abs_res.begin() + abs_res.size() / 2;
+      std::nth_element(abs_res.begin(), mid, abs_res.end());
+      clip = std::max(options.outlier_spreads * 1.4826 * *mid,
+                      options.outlier_min_dn);
+      fit = FitGains(rows, nf, options.min_contrast_dn, clip);
+    }
+  }
   double cost0, rms0;
   int n0;
-  Cost(rows, fit, options.huber_dn, &cost0, &rms0, &n0);
+  Cost(rows, fit, options.huber_dn, clip, &cost0, &rms0, &n0);
   if (n0 < 12) return false;
   res.rms_before_dn = rms0;
   // The usable faces are fixed by the starting pose so that costs compare.
@@ -549,9 +593,9 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     current = lv;
     Linearise(gray, camera, model, faces, lv, pose, jacobian,
               options.anisotropic_blur, &rows);
-    fit = FitGains(rows, nf, 0.0);
+    fit = FitGains(rows, nf, 0.0, clip);
     for (int f = 0; f < nf; ++f) fit.usable[f] = fit.usable[f] && usable[f];
-    Cost(rows, fit, options.huber_dn, &cost, &rms, &n);
+    Cost(rows, fit, options.huber_dn, clip, &cost, &rms, &n);
   };
   if (options.coarse_iterations > 0 && current != levels) {
     use_levels(current, true);
@@ -575,9 +619,10 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
     for (const Row& r : rows) {
       if (!usable[r.face] || !fit.usable[r.face]) continue;
       const double e = r.i - (fit.gain[r.face] * r.t + fit.offset[r.face]);
-      const double w = std::abs(e) <= options.huber_dn
-                           ? 1.0
-                           : options.huber_dn / std::abs(e);
+      // Huber's weight; none beyond the clip (an occluded sample).
+      const double a = std::abs(e);
+      if (a > clip) continue;
+      const double w = a <= options.huber_dn ? 1.0 : options.huber_dn / a;
       // Upper triangle only; mirrored below.
       for (int a = 0; a < 6; ++a) {
         const double wa = w * r.j(a);
@@ -600,12 +645,12 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       const Pose trial = Apply(pose, scale * step);
       Linearise(gray, camera, model, faces, current, trial, false,
                 options.anisotropic_blur, &trial_rows);
-      Fit trial_fit = FitGains(trial_rows, nf, 0.0);
+      Fit trial_fit = FitGains(trial_rows, nf, 0.0, clip);
       for (int f = 0; f < nf; ++f)
         trial_fit.usable[f] = trial_fit.usable[f] && usable[f];
       double c, q;
       int m;
-      Cost(trial_rows, trial_fit, options.huber_dn, &c, &q, &m);
+      Cost(trial_rows, trial_fit, options.huber_dn, clip, &c, &q, &m);
       if (m >= n * 0.9 && c / std::max(m, 1) < cost / std::max(n, 1)) {
         pose = trial;
         fit = trial_fit;

@@ -66,6 +66,14 @@ struct DenseRefineOptions {
   // foreshortening and too wide along it, which biases a small face's
   // fitted scale: its distance.
   bool anisotropic_blur = true;
+  // Occluders (a finger on the cube, a hand passing in front of it): a
+  // sample whose residual at the start exceeds this many robust spreads of
+  // the start's residuals (1.4826 times their median absolute value), and
+  // at least `outlier_min_dn`, neither sets its face's gain and offset nor
+  // pulls the pose: the loss is constant beyond that clip. 0 keeps every
+  // sample (Huber's loss alone, whose pull per sample never vanishes).
+  double outlier_spreads = 4.0;
+  double outlier_min_dn = 12.0;
   // The refined pose must stay this close to the starting one.
   double max_rotation_deg = 8.0;
   double max_translation_m = 0.01;

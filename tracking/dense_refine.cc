@@ -620,9 +620,10 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       if (!usable[r.face] || !fit.usable[r.face]) continue;
       const double e = r.i - (fit.gain[r.face] * r.t + fit.offset[r.face]);
       // Huber's weight; none beyond the clip (an occluded sample).
-      const double a = std::abs(e);
-      if (a > clip) continue;
-      const double w = a <= options.huber_dn ? 1.0 : options.huber_dn / a;
+      const double abs_e = std::abs(e);
+      if (abs_e > clip) continue;
+      const double w =
+          abs_e <= options.huber_dn ? 1.0 : options.huber_dn / abs_e;
       // Upper triangle only; mirrored below.
       for (int a = 0; a < 6; ++a) {
         const double wa = w * r.j(a);

@@ -7,13 +7,15 @@
 // every cell boundary of every face that faces the camera carries pose
 // information, and faces seen at grazing angles, which libapriltag cannot
 // decode, still show their black borders. This step samples each face's
-// bitmap (blurred by a small Gaussian, in the tag plane) near its cell
-// boundaries, projects the samples through the camera model, and runs
-// Gauss-Newton on the 6-DoF pose to make the image match the template up to
-// a per-face gain and offset (fitted in closed form each iteration), with a
-// Huber loss for occluders. Under any symmetric image blur the least-squares
-// alignment of a template with a blurred copy of itself is unbiased, so the
-// template's own blur only widens the basin of convergence.
+// bitmap near its cell boundaries, blurred as the image blurs it (a blur
+// round in pixels, so stretched in the tag plane of an oblique face, with
+// the width that fits the image best), projects the samples through the
+// camera model, and runs Gauss-Newton on the 6-DoF pose to make the image
+// match the template up to a per-face gain and offset (fitted in closed form
+// each iteration). The loss is Huber's, and constant for residuals far
+// beyond the start's spread: samples an occluder covers do not pull. The
+// template's blur must match the image's: a small square blurred more than
+// its template loses its corners, and the fit shrinks it (reads it farther).
 //
 // The result is kept only when it lowers the photometric cost and stays
 // within a few degrees and millimetres of the corner-based pose it starts

@@ -465,6 +465,13 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
   // 1 / kLevelSteps.
   std::vector<double> levels(nf, 0);
   std::vector<Row> rows;
+  // Each face's non-round blur at the start, per cell squared of round blur:
+  // every level's template is blurred as the image is.
+  std::vector<BlurShape> unit(nf, BlurShape::Zero());
+  if (options.anisotropic_blur) {
+    for (int f = 0; f < nf; ++f)
+      unit[f] = UnitBlurShape(camera, model.faces()[faces[f]], start);
+  }
   {
     // Every sample (level -1), values only.
     Linearise(gray, camera, model, faces, std::vector<double>(nf, -1), start,
@@ -479,13 +486,6 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
       Eigen::Matrix<double, kL, kL> vv = Eigen::Matrix<double, kL, kL>::Zero();
     };
     std::vector<Moments> moments(nf);
-    // Each level's template blurred as the image is (its non-round part
-    // for that level's own round blur).
-    std::vector<BlurShape> unit(nf, BlurShape::Zero());
-    if (options.anisotropic_blur) {
-      for (int f = 0; f < nf; ++f)
-        unit[f] = UnitBlurShape(camera, model.faces()[faces[f]], start);
-    }
     for (const Row& r : rows) {
       Moments& m = moments[r.face];
       Vec v =
@@ -545,12 +545,9 @@ bool DenseRefinePose(const cv::Mat& gray, const Camera& camera,
                        return !(r.sample->informative & blur[r.face].mask);
                      }),
       rows.end());
-  std::vector<BlurShape> shapes(nf, BlurShape::Zero());
-  if (options.anisotropic_blur) {
-    for (int f = 0; f < nf; ++f)
-      shapes[f] =
-          FaceBlurShape(camera, model.faces()[faces[f]], start, blur[f]);
-  }
+  std::vector<BlurShape> shapes(nf);
+  for (int f = 0; f < nf; ++f)
+    shapes[f] = std::pow(LevelSigmaCells(blur[f]), 2) * unit[f];
   for (Row& r : rows)
     r.t = TemplateValue(*r.sample, blur[r.face], shapes[r.face]);
   Fit fit = FitGains(rows, nf, options.min_contrast_dn);

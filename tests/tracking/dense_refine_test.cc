@@ -98,6 +98,17 @@ std::optional<DenseTagModel> PenModel(const Rig& rig) {
   return model;
 }
 
+// The tip's error along its line of sight (mm; +: too far) of the pose the
+// dense step refines from the truth on `gray`.
+double RefinedTipAlongMm(const cv::Mat& gray, const Camera& camera,
+                         const Rig& rig, const DenseTagModel& model,
+                         const Pose& truth, const DenseRefineOptions& options) {
+  Pose refined = truth;
+  DenseRefinePose(gray, camera, model, options, &refined);
+  const Eigen::Vector3d tip = truth * rig.pen->tip_in_pen;
+  return 1e3 * tip.normalized().dot(refined * rig.pen->tip_in_pen - tip);
+}
+
 // Renders frames of a preset with the pen in view and refines perturbed
 // starts; returns the median errors before and after.
 void RefineOnPreset(const std::string& preset, Errors* before, Errors* after) {
@@ -296,15 +307,11 @@ TEST(DenseRefineTest, AnObliqueFacesBlurIsRoundInTheImage) {
         renderer.Render(scene, imaging, spec.noise_seed);
     cv::Mat gray;
     cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
-    const Eigen::Vector3d tip = truth * rig.pen->tip_in_pen;
-    auto along_mm = [&](const DenseRefineOptions& options) {
-      Pose refined = truth;
-      DenseRefinePose(gray, camera, *model, options, &refined);
-      return 1e3 * tip.normalized().dot(refined * rig.pen->tip_in_pen - tip);
-    };
-    const double e = along_mm(one_face);
+    const double e =
+        RefinedTipAlongMm(gray, camera, rig, *model, truth, one_face);
     sum += e;
-    const double e_round = along_mm(round_blur);
+    const double e_round =
+        RefinedTipAlongMm(gray, camera, rig, *model, truth, round_blur);
     sum_round += e_round;
     largest = std::max(largest, std::abs(e));
     largest_round = std::max(largest_round, std::abs(e_round));
@@ -415,10 +422,7 @@ TEST(DenseRefineTest, AnOccluderOnTheCubeDoesNotPullThePose) {
   no_clip.outlier_spreads = 0;
   auto tip_along = [&](const cv::Mat& gray, const Pose& truth,
                        const DenseRefineOptions& options) {
-    Pose refined = truth;
-    DenseRefinePose(gray, camera, *model, options, &refined);
-    const Eigen::Vector3d tip = truth * rig.pen->tip_in_pen;
-    return 1e3 * tip.normalized().dot(refined * rig.pen->tip_in_pen - tip);
+    return RefinedTipAlongMm(gray, camera, rig, *model, truth, options);
   };
   std::vector<double> shift, shift_no_clip;
   for (const synth::FrameSpec& spec : specs) {

@@ -292,6 +292,21 @@ void main() {
   vec3 below =
       floor_seen ? under
                  : seen_out * (under_glass ? board_under : vec3(u_glass_t));
+  // The board under the glass is a band a few pixels tall between the floor
+  // at the wall's foot and the floor in the wall's mirror: its pixels on
+  // either edge hold both, by the share of the pixel each covers. The ray
+  // meets the wall's plane at height z_wall (below 0 where the floor comes
+  // first) and sees the board under the glass for 0 < z_wall < the descent
+  // of its way out and back through the slab; either side the floor's
+  // paper, lit as the floor is (`under`, from the same fetch: the paper
+  // under the glass and beside it are one sheet).
+  float z_wall = p.z + t.z * tw;
+  float band_top = glass_path * max(-tg.z, 0.0);
+  float z_step = max(fwidth(z_wall), 1e-7);
+  float band = clamp(0.5 + z_wall / z_step, 0.0, 1.0) *
+               clamp(0.5 + (band_top - z_wall) / z_step, 0.0, 1.0);
+  band *= float(dot(out_dir, out_dir) < 0.5 && !pen_hit) * (1.0 - obstacle);
+  below = band > 0.0 ? mix(under, video * board_under, band) : below;
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

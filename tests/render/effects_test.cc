@@ -1449,5 +1449,107 @@ TEST(EffectsTest, BackGlassMirrorsTheWaterBelowIt) {
   }
 }
 
+// Seen through the water, the board under the back glass is a band a few
+// pixels tall between the floor at the wall's foot and the floor in the
+// wall's mirror (the ray's height where it meets the wall's plane between
+// 0 and the descent of its way out and back through the slab). Its edge
+// pixels hold band and floor by the share of the pixel each covers, as the
+// reference's pixel-area samples do: summed down a column, each pixel's
+// share of the band (in linear light, between the floor beside it and the
+// band's inside) is the band's height in pixels that the geometry gives,
+// fractions included. Drawing each pixel as its centre falls would sum to a
+// whole number of pixels.
+TEST(EffectsTest, TheBoardUnderTheGlassCoversItsEdgePixelsByShare) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+  s.inputs.effects.reflection = false;
+  RendererOptions o;
+  // The disc's light alone, from behind the tank: the board under the back
+  // glass, lit through the wall's top face and its outer face, reads far
+  // brighter than the floor under the water (no sky lighting both alike).
+  o.optics.ambient_share = 0.0f;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, o, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+  // Behind the tank: the back wall's outer face takes the light too.
+  s.inputs.light_in_tank = {0.0, 0.6, 1.0};
+  std::fill(s.video.begin(), s.video.end(), std::uint8_t{200});
+  s.inputs.video.bgr = s.video.data();
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  ASSERT_FALSE(out.empty());
+
+  // The geometry, traced as the shader traces it: from pixel (u, v) to the
+  // flat surface, refracted, to the back wall's plane (the +y inner face).
+  const TankGeometry& t = s.inputs.tank;
+  const double n = o.optics.ior, ng = o.optics.glass_ior;
+  const double g = o.optics.glass_thickness_m;
+  const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  // Height of the ray where it meets the wall's plane, less the band's top
+  // when `top` (the band is where the first is positive and the second
+  // negative).
+  auto edge = [&](double u, double v, bool top) {
+    const glm::dvec3 ray = glm::normalize(glm::dvec3(
+        tank_from_cam *
+        glm::dvec4((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0, 0.0)));
+    const glm::dvec3 p = eye + ray * ((t.water_level - eye.z) / ray.z);
+    const glm::dvec3 tw = glm::refract(ray, glm::dvec3(0, 0, 1), 1.0 / n);
+    const double z_wall = p.z + tw.z * ((0.5 * t.size_y - p.y) / tw.y);
+    const glm::dvec3 tg = glm::refract(tw, glm::dvec3(0, -1, 0), n / ng);
+    return top ? z_wall - 2.0 * g * -tg.z / tg.y : z_wall;
+  };
+  // The row (continuous, pixel centres at integers) where `f` changes sign
+  // between rows a and b.
+  auto crossing = [&](double u, double a, double b, bool top) {
+    for (int i = 0; i < 60; ++i) {
+      const double m = 0.5 * (a + b);
+      ((edge(u, a, top) > 0) == (edge(u, m, top) > 0) ? a : b) = m;
+    }
+    return 0.5 * (a + b);
+  };
+  auto linear = [&](int x, int y) {
+    return SrgbToLinear(out.at<cv::Vec3b>(y, x)[1] / 255.0);
+  };
+  double sum_error = 0;
+  int columns = 0;
+  for (int x = 280; x <= 360; x += 4) {
+    // Find the band: the rows of the wall's foot seen through the water.
+    int v0 = -1;
+    for (int v = 20; v < kH6 - 20 && v0 < 0; ++v)
+      if (edge(x, v, false) > 0 && edge(x, v, true) < 0) v0 = v;
+    ASSERT_GE(v0, 0) << "column " << x;
+    const double bottom = crossing(x, v0, v0 + 20, false);
+    const double top = crossing(x, v0 - 20, v0, true);
+    const double height = bottom - top;
+    ASSERT_GT(height, 2.0);
+    ASSERT_LT(height, 8.0);
+    const int first = static_cast<int>(std::floor(top)) - 1;
+    const int last = static_cast<int>(std::ceil(bottom)) + 1;
+    // The pixel at the band's middle lies wholly inside it (the band is
+    // over 2 px tall); the floor either side two rows beyond its edge
+    // pixels.
+    const double middle = 0.5 * (top + bottom);
+    const double inside = linear(x, static_cast<int>(std::lround(middle)));
+    const double above = linear(x, first - 2), below = linear(x, last + 2);
+    ASSERT_GT(std::min(std::abs(inside - above), std::abs(inside - below)),
+              0.1 * inside)
+        << "column " << x;
+    double shares = 0;
+    for (int v = first; v <= last; ++v) {
+      const double floor = v < middle ? above : below;
+      shares += (linear(x, v) - floor) / (inside - floor);
+    }
+    sum_error += std::abs(shares - height);
+    ++columns;
+  }
+  const double mean_error = sum_error / columns;
+  std::printf(
+      "the band's height in pixels against its summed shares: mean "
+      "difference %.3f px over %d columns\n",
+      mean_error, columns);
+  EXPECT_LT(mean_error, 0.12);
+}
+
 }  // namespace
 }  // namespace ripple::render

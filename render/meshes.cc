@@ -124,17 +124,37 @@ void TankWallsMesh::Update(const TankGeometry& t) {
         cc{c[i + 1] + up, n[i], {len, len}}, d{c[i] + up, n[i], {0, len}};
     for (const WallVertex& x : {a, b, cc, a, cc, d}) v.push_back(x);
   }
-  // The top faces: the -y and +y walls' span the corners.
+  // The top faces: the -y and +y walls' span the corners. Each vertex's
+  // normal slot holds the direction across its wall, away from the face
+  // (outwards on the outer edge, into the tank on the inner one): the
+  // shader widens the faces along it to cover their edges' pixels. The uv
+  // slot holds the wall's inward normal (x, y).
   const float gx = hx + glass_thickness_m_, gy = hy + glass_thickness_m_;
   const glm::vec4 tops[4] = {{-gx, -gy, gx, -hy},
                              {hx, -hy, gx, hy},
                              {-gx, hy, gx, gy},
                              {-gx, -hy, -hx, hy}};
-  for (const glm::vec4& r : tops) {
-    const glm::vec3 up(0, 0, 1);
-    const WallVertex a{{r.x, r.y, z}, up, {0, 0}}, b{{r.z, r.y, z}, up, {0, 0}},
-        cc{{r.z, r.w, z}, up, {0, 0}}, d{{r.x, r.w, z}, up, {0, 0}};
-    for (const WallVertex& x : {a, b, cc, a, cc, d}) v.push_back(x);
+  // Per top face: the direction from its first corner's edge (r.x, r.y)
+  // outwards, for its two long edges.
+  const glm::vec3 grow0[4] = {{0, -1, 0}, {-1, 0, 0}, {0, -1, 0}, {-1, 0, 0}};
+  // The walls' outward normals; the uv slot holds the inward one.
+  const glm::vec3 n_top[4] = {{0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
+  for (int i = 0; i < 4; ++i) {
+    const glm::vec4& r = tops[i];
+    // x walls (i = 1, 3) run along y: their long edges are x = r.x, r.z;
+    // y walls along x: y = r.y, r.w.
+    const bool along_y = i % 2 == 1;
+    auto grow = [&](float x, float y) {
+      const bool first = along_y ? x == r.x : y == r.y;
+      return first ? grow0[i] : -grow0[i];
+    };
+    const glm::vec2 p[4] = {{r.x, r.y}, {r.z, r.y}, {r.z, r.w}, {r.x, r.w}};
+    WallVertex q[4];
+    for (int k = 0; k < 4; ++k)
+      q[k] = {{p[k].x, p[k].y, z},
+              grow(p[k].x, p[k].y),
+              {-n_top[i].x, -n_top[i].y}};
+    for (const int k : {0, 1, 2, 0, 2, 3}) v.push_back(q[k]);
   }
   glBindBuffer(GL_ARRAY_BUFFER, vbo_.id());
   glBufferSubData(GL_ARRAY_BUFFER, 0, v.size() * sizeof(WallVertex), v.data());

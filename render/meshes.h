@@ -29,7 +29,9 @@ struct ModelUniforms {
 // The glass walls as 4 x 6 vertices (wall i: vertices 6i..6i+5; walls run
 // counter-clockwise seen from above, starting with the -y wall) at the inner
 // size, then their top faces as 4 x 6 vertices (24..47: the ring at the wall
-// height out to the glass's outer faces, `glass_thickness_m` beyond).
+// height out to the glass's outer faces, `glass_thickness_m` beyond; their
+// normal slot the direction across the wall away from the face, their uv
+// slot the wall's inward normal).
 // Rebuilt only when the tank geometry changes (its redraw key).
 class TankWallsMesh {
  public:

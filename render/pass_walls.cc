@@ -43,6 +43,7 @@ bool WallsPass::Create(const Options& options, std::string* error) {
     tops_under_glass_[w] = tops_.Uniform(name.c_str());
   }
   tops_floor_seen_ = tops_.Uniform("u_floor_seen");
+  tops_grow_ = tops_.Uniform("u_top_grow");
   for (int i = 0; i < kPrograms; ++i) {
     common_[i].Resolve(programs_[i]);  // leaves it bound
     SetUniform(programs_[i].Uniform("u_sigma"),
@@ -132,13 +133,14 @@ void WallsPass::Draw(const FrameState& f, const TankWallsMesh& walls,
       if ((outside[i] > 0) == part.front) glDrawArrays(GL_TRIANGLES, 6 * i, 6);
     }
   }
-  // The top faces replace what lies behind them, encoded by their shader.
-  state.Disable(GL_BLEND);
-  // On the same view with the encoding off, which writes the face's encoded
-  // values as they are: one change of framebuffer per frame, not two (each
-  // makes llvmpipe flush what was drawn before it).
-  if (f.srgb_output) state.Disable(GL_FRAMEBUFFER_SRGB);
+  // The top faces replace what lies behind them, except in their edges'
+  // pixels, which they cover by share: blended in linear light, on the
+  // same sRGB view as the walls.
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
   tops_common_.Set(tops_, f, f.clip_from_tank);
+  // Widened by a pixel and a half at the tank's distance, each way.
+  glUniform1f(tops_grow_,
+              static_cast<float>(1.5 * glm::length(f.cam_in_tank) / f.k->fx));
   glm::vec3 basis[4];
   UnderGlassBasis(f.shading, basis);
   for (int w = 0; w < 4; ++w) SetUniform(tops_under_glass_[w], basis[w]);

@@ -53,7 +53,8 @@ class WallsPass {
   // The walls' top faces (wall_tops.frag), opaque, after the walls.
   Program tops_;
   CommonUniforms tops_common_;
-  GLint tops_under_glass_[4] = {-1, -1, -1, -1}, tops_floor_seen_ = -1;
+  GLint tops_under_glass_[4] = {-1, -1, -1, -1}, tops_floor_seen_ = -1,
+        tops_grow_ = -1;
   GLint floor_sky_[kPrograms] = {}, floor_sun_[kPrograms] = {},
         inv_n2_[kPrograms] = {}, z_range_[kPrograms] = {},
         return_tint_[kPrograms] = {}, floor_around_[kPrograms] = {},

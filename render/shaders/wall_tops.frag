@@ -1,5 +1,6 @@
-// The glass walls' top faces seen from above, in linear light, opaque: a
-// window into the slab. The exact dielectric Fresnel reflectance of the
+// The glass walls' top faces seen from above, in linear light (the sRGB
+// view encodes), opaque but for their edges' pixels: a window into the
+// slab. The exact dielectric Fresnel reflectance of the
 // face mixes in the sky or the environment by the mirrored ray; the rest
 // of the camera's ray refracts into the glass and runs down the slab. Its
 // vertical faces reflect it totally while they border air, and below the
@@ -9,7 +10,12 @@
 // through the glass (optics.h, under_glass). Otherwise it leaves the slab
 // into the water at the inner face and sees the floor near the wall, at
 // its mean (FloorReturnLight::floor_seen).
+// The face covers each pixel by its share: the faces are drawn widened
+// (wall_tops.vert) and blended over what lies behind them by that share,
+// the pixel's footprint across the wall against the face's 0..1 (in
+// thicknesses); the face is shaded at the footprint's point nearest it.
 in vec3 v_p;
+flat in vec2 v_inward;
 out vec4 o_color;
 uniform sampler2D u_scene;
 uniform float u_glass_ior;
@@ -19,12 +25,21 @@ uniform vec3 u_under_glass[4];    // as in water.frag
 uniform vec3 u_floor_seen;
 
 void main() {
-  vec3 v = normalize(v_p - u_cam_in_tank);
   vec2 half_size = 0.5 * u_tank.xy;
-  // The y walls' faces take the corners.
-  bool y_wall = abs(v_p.y) > half_size.y;
-  vec2 inward = y_wall ? vec2(0.0, -sign(v_p.y)) : vec2(-sign(v_p.x), 0.0);
+  vec2 inward = v_inward;
   vec2 along = abs(inward.yx);
+  float inner = dot(half_size, abs(inward));
+  float across_face = (dot(v_p.xy, -inward) - inner) / u_glass_thickness;
+  float step_across = max(fwidth(across_face), 1e-6);
+  float cover = clamp((min(across_face + 0.5 * step_across, 1.0) -
+                       max(across_face - 0.5 * step_across, 0.0)) /
+                          step_across,
+                      0.0, 1.0);
+  vec3 p_face = vec3(v_p.xy * along -
+                         inward * (inner + clamp(across_face, 0.0, 1.0) *
+                                               u_glass_thickness),
+                     v_p.z);
+  vec3 v = normalize(p_face - u_cam_in_tank);
   const vec3 up = vec3(0.0, 0.0, 1.0);
   float r = FresnelExact(-v.z, u_glass_ior);
   vec3 g = refract(v, up, 1.0 / u_glass_ior);
@@ -32,8 +47,8 @@ void main() {
   bool trapped = u_glass_ior * sqrt(max(1.0 - c * c, 0.0)) > u_ior;
   // The board point under the slab's middle that the ray reaches.
   float drift = dot(g.xy, along) * u_tank.z / max(-g.z, 1e-3);
-  vec2 foot = v_p.xy + along * drift;
-  float mid = dot(half_size, abs(inward)) + 0.5 * u_glass_thickness;
+  vec2 foot = p_face.xy + along * drift;
+  float mid = inner + 0.5 * u_glass_thickness;
   foot = foot * along - inward * mid;
   vec3 video =
       DecodeVideo(textureLod(u_scene, VideoUv(vec3(foot, 0.0)), 0.0).rgb);
@@ -42,5 +57,5 @@ void main() {
                      abs(inward.x) * u_under_glass[3];
   vec3 below = trapped ? video * board_under : u_floor_seen;
   vec3 sky = Environment(reflect(v, up), vec3(u_ambient));
-  o_color = vec4(EncodeOutput(mix(below, sky, r)), 1.0);
+  o_color = vec4(Shoulder(mix(below, sky, r)), cover);
 }

@@ -1551,5 +1551,65 @@ TEST(EffectsTest, TheBoardUnderTheGlassCoversItsEdgePixelsByShare) {
   EXPECT_LT(mean_error, 0.12);
 }
 
+// A wall's top face, 3 mm of glass, covers the pixels its edges cross by
+// the share of each that it covers, as the reference's pixel-area samples
+// do: seen from above over a uniform board, the face shows the board under
+// the glass, lit through the glass (apart from the open board beyond it
+// and the wet floor inside), and the shares summed down a column across
+// its outer edge (between the board beyond and the face's inside, in linear
+// light) are the width of face they span in pixels, fractions included.
+TEST(EffectsTest, TopFacesCoverTheirEdgePixelsByShare) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+  const TankGeometry& t = s.inputs.tank;
+  const double g = WaterOptics{}.glass_thickness_m;
+  const double hy = 0.5 * t.size_y;
+  auto r = Renderer::TryCreate(ctx.get(), s.k, RendererOptions{}, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+  s.inputs.effects.reflection = false;
+  // Nearly straight down on the -y wall's top face, moved a third of a
+  // pixel at a time.
+  for (const double shift : {0.0, 0.00016, 0.00032}) {
+    const double x_eye = 0.0;
+    const glm::dvec3 eye(x_eye, -hy - 0.5 * g + 0.0003 + shift, 0.30);
+    s.inputs.cam_from_tank =
+        testing::LookAt(eye, glm::dvec3(x_eye, -hy - 0.5 * g + shift, 0.0));
+    std::fill(s.video.begin(), s.video.end(), std::uint8_t{200});
+    s.inputs.video.bgr = s.video.data();
+    const cv::Mat out = RenderScene(r.get(), s.inputs);
+    ASSERT_FALSE(out.empty());
+    // The face's outer edge (tank y = -hy - g at the wall's height) along
+    // the image column through the camera; the board beyond it is the
+    // video as it is. (Beyond the inner edge the wall's inner face meets
+    // the water, which the walls pass draws too.)
+    auto row_of = [&](double y) {
+      const glm::dvec4 c =
+          s.inputs.cam_from_tank * glm::dvec4(x_eye, y, t.wall_height, 1.0);
+      return s.k.fy * c.y / c.z + s.k.cy;
+    };
+    const double outer = row_of(-hy - g), inner = row_of(-hy);
+    ASSERT_LT(outer, inner - 4.0);  // the outer edge on top, 4+ px wide
+    const int u = static_cast<int>(std::lround(s.k.cx));
+    auto level = [&](int v) {
+      return SrgbToLinear(out.at<cv::Vec3b>(v, u)[1] / 255.0);
+    };
+    const int first = static_cast<int>(std::floor(outer)) - 1;
+    const int last = static_cast<int>(std::lround(outer)) + 2;
+    const double board = level(first - 2), inside = level(last + 1);
+    ASSERT_GT(std::abs(board - inside), 0.05);
+    double shares = 0;
+    for (int v = first; v <= last; ++v)
+      shares += (board - level(v)) / (board - inside);
+    const double covered = last + 0.5 - outer;
+    std::printf(
+        "top face's outer edge at row %.3f: %.3f px of the face "
+        "down to row %d, shares sum to %.3f\n",
+        outer, covered, last, shares);
+    EXPECT_NEAR(shares, covered, 0.1);
+  }
+}
+
 }  // namespace
 }  // namespace ripple::render

@@ -141,18 +141,16 @@ void TankWallsMesh::Update(const TankGeometry& t) {
   const glm::vec3 n_top[4] = {{0, -1, 0}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
   for (int i = 0; i < 4; ++i) {
     const glm::vec4& r = tops[i];
-    // x walls (i = 1, 3) run along y: their long edges are x = r.x, r.z;
-    // y walls along x: y = r.y, r.w.
-    const bool along_y = i % 2 == 1;
-    auto grow = [&](float x, float y) {
-      const bool first = along_y ? x == r.x : y == r.y;
-      return first ? grow0[i] : -grow0[i];
-    };
     const glm::vec2 p[4] = {{r.x, r.y}, {r.z, r.y}, {r.z, r.w}, {r.x, r.w}};
+    // The long edge through the first corner: x = r.x (corners 0 and 3)
+    // for the x walls (i = 1, 3), which run along y; y = r.y (corners 0
+    // and 1) for the y walls.
+    const bool first_edge[2][4] = {{true, true, false, false},
+                                   {true, false, false, true}};
     WallVertex q[4];
     for (int k = 0; k < 4; ++k)
       q[k] = {{p[k].x, p[k].y, z},
-              grow(p[k].x, p[k].y),
+              first_edge[i % 2][k] ? grow0[i] : -grow0[i],
               {-n_top[i].x, -n_top[i].y}};
     for (const int k : {0, 1, 2, 0, 2, 3}) v.push_back(q[k]);
   }

@@ -50,7 +50,8 @@ class WallsPass {
   static constexpr int kFrontAbove = 9;
   Program programs_[kPrograms];
   CommonUniforms common_[kPrograms];
-  // The walls' top faces (wall_tops.frag), opaque, after the walls.
+  // The walls' top faces (wall_tops.frag), after the walls: opaque but
+  // for their edges' pixels, which they cover by share.
   Program tops_;
   CommonUniforms tops_common_;
   GLint tops_under_glass_[4] = {-1, -1, -1, -1}, tops_floor_seen_ = -1,

@@ -98,6 +98,27 @@ std::optional<DenseTagModel> PenModel(const Rig& rig) {
   return model;
 }
 
+// The default camera and rig, a synth sequence of `preset` and its
+// renderer, and the pen's dense model: what the tests over rendered pen
+// views start from.
+struct PenScene {
+  Camera camera;
+  Rig rig;
+  std::vector<synth::FrameSpec> specs;
+  synth::SceneRenderer renderer;
+  std::optional<DenseTagModel> model;
+};
+
+PenScene MakePenScene(const std::string& preset, int frames, int segment_frames,
+                      uint64_t seed) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  return {
+      camera, rig,
+      test_data::SynthSpecs(camera, rig, preset, frames, segment_frames, seed),
+      synth::SceneRenderer(camera, rig), PenModel(rig)};
+}
+
 // The tip's error along its line of sight (mm; +: too far) of the pose the
 // dense step refines from the truth on `gray`.
 double RefinedTipAlongMm(const cv::Mat& gray, const Camera& camera,
@@ -184,12 +205,8 @@ TEST(DenseRefineTest, ConvergesTowardsTheTruthOnBlurredNoisyFrames) {
 // smoothly. A template that jumped from one precomputed blur to the next
 // moved a small face's distance by a millimetre at the jump.
 TEST(DenseRefineTest, TemplateBlurFollowsTheImageBlurContinuously) {
-  const Camera camera = DefaultCamera();
-  const Rig rig = test_data::DefaultRig();
-  const std::vector<synth::FrameSpec> specs =
-      test_data::SynthSpecs(camera, rig, "clean", 24, 4, 11);
-  synth::SceneRenderer renderer(camera, rig);
-  const auto model = PenModel(rig);
+  const PenScene scene = MakePenScene("clean", 24, 4, 11);
+  const auto& [camera, rig, specs, renderer, model] = scene;
   ASSERT_TRUE(model);
   // Refined from the truth on noise-free frames, where the clip of
   // occluded samples (a truncated loss) leaves some starts unimproved; the
@@ -266,12 +283,8 @@ TEST(DenseRefineTest, TemplateBlurFollowsTheImageBlurContinuously) {
 // round one it is 1.3 mm too far on average (measured: +0.02 and +1.28 mm,
 // largest 0.80 mm against 2.14 mm).
 TEST(DenseRefineTest, AnObliqueFacesBlurIsRoundInTheImage) {
-  const Camera camera = DefaultCamera();
-  const Rig rig = test_data::DefaultRig();
-  const std::vector<synth::FrameSpec> specs =
-      test_data::SynthSpecs(camera, rig, "benchmark", 300, 50, 1);
-  synth::SceneRenderer renderer(camera, rig);
-  const auto model = PenModel(rig);
+  const PenScene scene = MakePenScene("benchmark", 300, 50, 1);
+  const auto& [camera, rig, specs, renderer, model] = scene;
   ASSERT_TRUE(model);
   DenseRefineOptions one_face;
   one_face.min_facing_cos = 0.6;
@@ -338,12 +351,8 @@ TEST(DenseRefineTest, AnObliqueFacesBlurIsRoundInTheImage) {
 // spread was 0.5-1.1 of it.) The shaft's refinement weighs its edges against
 // this information; an overconfident prior would pin the pose.
 TEST(DenseRefineTest, InformationDoesNotOverstateThePrecision) {
-  const Camera camera = DefaultCamera();
-  const Rig rig = test_data::DefaultRig();
-  const std::vector<synth::FrameSpec> specs =
-      test_data::SynthSpecs(camera, rig, "clean", 12, 4, 11);
-  synth::SceneRenderer renderer(camera, rig);
-  const auto model = PenModel(rig);
+  const PenScene scene = MakePenScene("clean", 12, 4, 11);
+  const auto& [camera, rig, specs, renderer, model] = scene;
   ASSERT_TRUE(model);
   synth::ImagingOptions imaging;
   imaging.defocus_sigma_px = 0.8;
@@ -411,12 +420,8 @@ TEST(DenseRefineTest, InformationDoesNotOverstateThePrecision) {
 // loss alone). The hand's shift of the tip along the line of sight,
 // |with - without|, must fall well below what it is without the clip.
 TEST(DenseRefineTest, AnOccluderOnTheCubeDoesNotPullThePose) {
-  const Camera camera = DefaultCamera();
-  const Rig rig = test_data::DefaultRig();
-  const std::vector<synth::FrameSpec> specs =
-      test_data::SynthSpecs(camera, rig, "benchmark", 300, 50, 1);
-  synth::SceneRenderer renderer(camera, rig);
-  const auto model = PenModel(rig);
+  const PenScene scene = MakePenScene("benchmark", 300, 50, 1);
+  const auto& [camera, rig, specs, renderer, model] = scene;
   ASSERT_TRUE(model);
   DenseRefineOptions no_clip;
   no_clip.outlier_spreads = 0;

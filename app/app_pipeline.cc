@@ -251,7 +251,7 @@ void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
   scene->occluders = {mask.data, mask.cols, mask.rows,
                       static_cast<int>(mask.step),
                       glm::ivec4(w.x, w.y, w.width, w.height)};
-  const cv::Mat& p = plate.plate();
+  const cv::Mat& p = plate.shown_plate();
   scene->plate = {p.data,
                   p.cols,
                   p.rows,
@@ -259,7 +259,7 @@ void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
                   {plate.plate_origin_m().x, plate.plate_origin_m().y},
                   plate.texel_m(),
                   static_cast<float>(plate.summary().gain),
-                  plate.plate_counter()};
+                  plate.shown_plate_counter()};
 }
 
 Pipeline::RealViews Pipeline::UpdateRealObjects(

@@ -94,8 +94,9 @@ void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
                      const cv::Mat& pen_silhouette, cv::Mat* out);
 
 // Points `scene`'s occluder mask at `mask` (over the plate's window) and its
-// plate view at the clean plate's, with this frame's gain. The scene holds
-// pointers: both must outlive the render.
+// plate view at the clean plate's shown plate (the board it learned, and
+// where it has not, the printed design), with this frame's gain. The scene
+// holds pointers: both must outlive the render.
 void SetRealObjectViews(const tracking::CleanPlate& plate, const cv::Mat& mask,
                         render::SceneInputs* scene);
 

@@ -172,6 +172,7 @@ bool MakeRenderScenes(const RenderScenesOptions& options,
     s.scene.scene = base;
     s.scene.camera = cam;
     s.scene.floor_albedo = tiled ? board_tiles : board_plain;
+    if (tiled) s.floor = *tiles;
     s.scene.floor_rect_m = cv::Rect2d(rect.min().x(), rect.min().y(),
                                       rect.sizes().x(), rect.sizes().y());
     s.scene.table_albedo = synth::kTableBgr;

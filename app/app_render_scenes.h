@@ -22,6 +22,9 @@ struct RenderBenchScene {
   std::string name;         // file-name safe
   std::string description;  // one line
   reference::ReferenceScene scene;
+  // The printed floor inside the tank (plain or tiles): with the rig's
+  // board, the design the pipeline gives its clean plate.
+  synth::FloorPattern floor;
   // Storage behind scene.scene.water (nx * ny floats, metres).
   std::shared_ptr<std::vector<float>> heights;
 };

@@ -143,15 +143,17 @@ struct SceneResult {
   double best_gain = 1, flip_at_best_gain = 0, flip_resolution_loss = 0;
 };
 
-// The real objects as the pipeline sees them: a clean plate learned from
-// the dry frames without the hands (`clean`: the pen excluded), then the
-// occluder mask of the frame with them (`video`). Fills the plate and mask
-// views of `in` (their storage in `plate`).
-void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
-                 const cv::Mat& video, cv::Mat* pen_silhouette,
-                 cv::Mat* real_mask,
+// The real objects as the pipeline sees them: a clean plate that knows the
+// printed board (the rig's tags and the scene's floor), learned from the dry
+// frames without the hands (`clean`: the pen excluded), then the occluder
+// mask of the frame with them (`video`). Fills the plate and mask views of
+// `in` (their storage in `plate`).
+void RealObjects(const tracking::Rig& rig, const RenderBenchScene& s,
+                 const cv::Mat& clean, const cv::Mat& video,
+                 cv::Mat* pen_silhouette, cv::Mat* real_mask,
                  std::unique_ptr<tracking::CleanPlate>* plate,
                  render::SceneInputs* in) {
+  const reference::ReferenceScene& rs = s.scene;
   const render::TankGeometry& t = rs.scene.tank;
   const double top = std::max(t.wall_height, t.water_level + 0.01f);
   // Its search widened as the pipeline widens it with --tank-shadow: hands
@@ -163,6 +165,12 @@ void RealObjects(const reference::ReferenceScene& rs, const cv::Mat& clean,
   po.margin_m = std::max(po.margin_m, po.surround_m);
   *plate = std::make_unique<tracking::CleanPlate>(rs.camera, t.size_x, t.size_y,
                                                   top, po);
+  cv::Mat levels, valid;
+  const cv::Point2d o = (*plate)->plate_origin_m();
+  synth::BoardDesignLevels(
+      rig, s.floor, {o.x, o.y}, (*plate)->texel_m(), (*plate)->plate_size(),
+      rs.camera.transfer == geometry::Transfer::kSrgb, &levels, &valid);
+  (*plate)->SetBoardPrior(levels, valid);
   auto pose = [](const glm::dmat4& m) {
     const Eigen::Matrix4d e = Eigen::Map<const Eigen::Matrix4d>(&m[0][0]);
     return tracking::Pose::FromMatrix(
@@ -453,7 +461,8 @@ int RunBenchRender(const RenderBenchArgs& args) {
           return Fail(kExitRuntime, "scene '" + s.name + "': " + error);
         clean = reference::LinearToSrgb8(clean_linear);
       }
-      RealObjects(rs, clean, video, &pen_silhouette, &real_mask, &plate, &in);
+      RealObjects(*rig, s, clean, video, &pen_silhouette, &real_mask, &plate,
+                  &in);
     }
     const cv::Mat realtime = RenderRealTime(renderer.get(), in);
     if (realtime.empty())

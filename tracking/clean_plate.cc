@@ -106,6 +106,7 @@ void CleanPlate::Reset() {
   gain_ = 1.0;
   ++plate_counter_;
   summary_ = CleanPlateSummary();
+  ComposeShownPlate();
 }
 
 bool CleanPlate::SetBoardPrior(const cv::Mat& design_levels,
@@ -133,6 +134,7 @@ bool CleanPlate::SetBoardPrior(const cv::Mat& design_levels,
     cv::Vec4b* hi = prior_hi_.ptr<cv::Vec4b>(j);
     for (int i = 0; i < plate_w_; ++i) hi[i][3] = lo[i][3];
   }
+  ComposeShownPlate();
   return true;
 }
 
@@ -376,7 +378,47 @@ const CleanPlateSummary& CleanPlate::Process(const cv::Mat& bgr,
   mask.copyTo(plate_foreground_(roi));
   last_roi_ = roi;
   summary_.gain = gain_;
+  ComposeShownPlate();
   return summary_;
+}
+
+void CleanPlate::ComposeShownPlate() {
+  if (prior_.empty()) {
+    // The plate itself (sharing its pixels, which Learn updates in place).
+    if (shown_.data != plate_bgra_.data || shown_from_plate_ != plate_counter_)
+      ++shown_counter_;
+    shown_ = plate_bgra_;
+    shown_from_plate_ = plate_counter_;
+    return;
+  }
+  // Design levels to plate units: the frame shows design x prior_gain and
+  // plate x gain.
+  const cv::Vec3f scale = prior_gain_ * static_cast<float>(1.0 / gain_);
+  bool moved = shown_.data == plate_bgra_.data || shown_.empty() ||
+               shown_from_plate_ != plate_counter_;
+  for (int c = 0; c < 3; ++c)
+    moved |= std::abs(scale[c] - shown_scale_[c]) >
+             kShownDesignGainStep * shown_scale_[c];
+  if (!moved) return;
+  if (shown_.data == plate_bgra_.data) shown_.release();  // not the plate's
+  shown_.create(plate_h_, plate_w_, CV_8UC4);
+  for (int j = 0; j < plate_h_; ++j) {
+    const cv::Vec4b* p = plate_bgra_.ptr<cv::Vec4b>(j);
+    const cv::Vec4b* q = prior_.ptr<cv::Vec4b>(j);
+    cv::Vec4b* out = shown_.ptr<cv::Vec4b>(j);
+    for (int i = 0; i < plate_w_; ++i) {
+      if (p[i][3] == 255 || q[i][3] != 255) {
+        out[i] = p[i];
+        continue;
+      }
+      for (int c = 0; c < 3; ++c)
+        out[i][c] = cv::saturate_cast<std::uint8_t>(q[i][c] * scale[c]);
+      out[i][3] = 255;
+    }
+  }
+  shown_scale_ = scale;
+  shown_from_plate_ = plate_counter_;
+  ++shown_counter_;
 }
 
 void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,

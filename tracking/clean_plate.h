@@ -159,6 +159,20 @@ class CleanPlate {
   double texel_m() const { return options_.texel_m; }
   // Bumped whenever plate() changed.
   std::uint64_t plate_counter() const { return plate_counter_; }
+
+  // The board as a renderer should show it behind what hides it, in
+  // plate()'s layout and units: plate() where a texel is known; where it is
+  // not but the printed design is (SetBoardPrior), the design as the last
+  // frame's light shows it (its per-channel gain over the plate's), alpha
+  // 255 too; alpha 0 elsewhere. So the board under a pen that has not moved
+  // since tracking began is known from the print. Without a design (or once
+  // it is dropped), plate() itself. Recomposed in Process() when the plate
+  // changes or the design's gain moves by more than
+  // `kShownDesignGainStep` of itself.
+  const cv::Mat& shown_plate() const { return shown_; }
+  // Bumped whenever shown_plate() changed.
+  std::uint64_t shown_plate_counter() const { return shown_counter_; }
+  static constexpr double kShownDesignGainStep = 0.01;
   const CleanPlateSummary& summary() const { return summary_; }
 
   // The printed board's design on the plate's grid (plate_size(), texel
@@ -228,6 +242,12 @@ class CleanPlate {
   double gain_ = 1.0;
   cv::Vec3f prior_gain_{1.0f, 1.0f, 1.0f};  // frame / design, per channel
   CleanPlateSummary summary_;
+  // shown_plate(): the composition, and what it was composed from.
+  void ComposeShownPlate();
+  cv::Mat shown_;
+  std::uint64_t shown_counter_ = 0;
+  std::uint64_t shown_from_plate_ = ~std::uint64_t{0};
+  cv::Vec3f shown_scale_{0.0f, 0.0f, 0.0f};  // design to plate units
 };
 
 // The ideal-pinhole pixel window of the tank's box (inner size, floor to

@@ -6,8 +6,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <memory>
 #include <opencv2/imgproc.hpp>
+#include <vector>
 
 #include "tests/shipped_data.h"
 #include "tests/tracking/synth_sequence.h"
@@ -224,6 +227,94 @@ TEST(CleanPlateTest, KnownTexelsAreThePlatesOpaqueTexels) {
   plate.Process(BoardFrame(renderer, cam_from_tank, 1.0, 50), cam_from_tank,
                 cv::Mat());
   EXPECT_EQ(plate.summary().known_texels, opaque());
+}
+
+// The board under something that never moved (a pen held still since
+// tracking began) is never seen, so the plate does not know it; the shown
+// plate takes it from the printed design, in the plate's units under this
+// frame's light. Checked against a plate that saw that board: the tiled
+// floor's texels (tiles and grout) under a still object, 10% under-exposed.
+TEST(CleanPlateTest, ShownPlateTakesTheUnseenBoardFromTheDesign) {
+  const Camera camera = test_data::DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  std::string error;
+  const auto tiles =
+      synth::FloorPattern::Create(synth::FloorOptions(), rig.tank, &error);
+  ASSERT_TRUE(tiles) << error;
+  const synth::SceneRenderer renderer(camera, rig, *tiles);
+  const Pose cam_from_tank = BoardView();
+  const cv::Rect window = Window(camera, rig, cam_from_tank);
+  cv::Mat still(camera.height, camera.width, CV_8U, cv::Scalar(0));
+  const cv::Rect object(window.x + window.width / 3,
+                        window.y + window.height / 3, 60, 40);
+  still(object).setTo(255);
+  auto make = [&](bool prior) {
+    auto plate = std::make_unique<CleanPlate>(
+        camera, rig.tank.size_x_m, rig.tank.size_y_m, rig.tank.wall_height_m);
+    if (prior) {
+      cv::Mat levels, valid;
+      const cv::Point2d o = plate->plate_origin_m();
+      synth::BoardDesignLevels(rig, *tiles, {o.x, o.y}, plate->texel_m(),
+                               plate->plate_size(), /*srgb=*/false, &levels,
+                               &valid);
+      EXPECT_TRUE(plate->SetBoardPrior(levels, valid));
+    }
+    return plate;
+  };
+  auto with_design = make(true), without = make(false), seeing = make(true);
+  for (int i = 0; i < 6; ++i) {
+    const cv::Mat frame = BoardFrame(renderer, cam_from_tank, 0.9, i + 1);
+    with_design->Process(frame, cam_from_tank, still);
+    without->Process(frame, cam_from_tank, still);
+    seeing->Process(frame, cam_from_tank, cv::Mat());
+  }
+  // The plate texels under the still object: unknown to the plates that
+  // never saw them, known to the one that did.
+  const cv::Mat& known = seeing->plate();
+  const cv::Mat& plate = with_design->plate();
+  const cv::Mat& shown = with_design->shown_plate();
+  ASSERT_EQ(shown.size(), plate.size());
+  int hidden = 0, lo = 255, hi = 0;
+  std::vector<double> errors;
+  for (int j = 0; j < plate.rows; ++j) {
+    for (int i = 0; i < plate.cols; ++i) {
+      const cv::Vec4b p = plate.at<cv::Vec4b>(j, i);
+      const cv::Vec4b s = shown.at<cv::Vec4b>(j, i);
+      const cv::Vec4b k = known.at<cv::Vec4b>(j, i);
+      if (p[3] == 255) {
+        ASSERT_EQ(s, p) << "a known texel is shown as learned";
+        continue;
+      }
+      if (k[3] != 255) continue;
+      ++hidden;
+      ASSERT_EQ(s[3], 255);
+      lo = std::min<int>(lo, k[1]);
+      hi = std::max<int>(hi, k[1]);
+      for (int c = 0; c < 3; ++c) errors.push_back(std::abs(s[c] - k[c]));
+    }
+  }
+  ASSERT_GT(hidden, 300) << "the object must hide part of the board";
+  ASSERT_GT(hi - lo, 40) << "the hidden board must hold tiles and grout";
+  // Without a design the shown plate is the plate itself.
+  EXPECT_EQ(without->shown_plate().data, without->plate().data);
+  std::sort(errors.begin(), errors.end());
+  const double median = errors[errors.size() / 2];
+  const double p90 = errors[errors.size() * 9 / 10];
+  std::printf(
+      "board under a still object from the design: %d texels (green %d-%d), "
+      "|design - learned| median %.0f, p90 %.0f levels\n",
+      hidden, lo, hi, median, p90);
+  EXPECT_LE(median, 4);
+  EXPECT_LE(p90, 12);
+  // A change of light recomposes it; the same light does not.
+  const std::uint64_t counter = with_design->shown_plate_counter();
+  with_design->Process(BoardFrame(renderer, cam_from_tank, 0.9, 50),
+                       cam_from_tank, still);
+  const std::uint64_t same = with_design->shown_plate_counter();
+  with_design->Process(BoardFrame(renderer, cam_from_tank, 0.7, 51),
+                       cam_from_tank, still);
+  EXPECT_GT(with_design->shown_plate_counter(), same);
+  EXPECT_GE(same, counter);
 }
 
 TEST(CleanPlateTest, BoardRevealedByAStartingHandTakesOver) {

@@ -1,5 +1,6 @@
 #include "render/meshes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <vector>
@@ -165,7 +166,7 @@ void SolidMeshes::Create() {
 
 void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
                        const glm::dmat4& clip_from_tank, bool obstacles,
-                       bool pen, double pen_grow_m) const {
+                       bool pen, const PenGrow& pen_grow) const {
   auto draw = [&](const Mesh& mesh, const glm::dmat4& tank_from_model) {
     SetUniform(p.tank_from_model, tank_from_model);
     SetUniform(p.clip_from_model, clip_from_tank * tank_from_model);
@@ -187,9 +188,10 @@ void SolidMeshes::Draw(const SceneInputs& scene, const ModelUniforms& p,
   }
   if (pen && scene.pen_visible) {
     const PenGeometry& g = scene.pen;
-    const double e = g.cube_edge, r = g.shaft_radius + pen_grow_m;
-    const double len = g.shaft_length + pen_grow_m;
-    draw(box_, glm::scale(scene.tank_from_pen, glm::dvec3(e + 2 * pen_grow_m)));
+    const double e = g.cube_edge, r = g.shaft_radius + pen_grow.shaft_m;
+    const double len = g.shaft_length + std::max(pen_grow.shaft_m, 0.0);
+    draw(box_,
+         glm::scale(scene.tank_from_pen, glm::dvec3(e + 2 * pen_grow.cube_m)));
     const glm::dmat4 shaft =
         glm::translate(scene.tank_from_pen, {0.0, 0.0, -0.5 * e - len});
     draw(cylinder_, glm::scale(shaft, {r, r, len}));

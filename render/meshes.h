@@ -47,15 +47,23 @@ class TankWallsMesh {
   float glass_thickness_m_ = 0;
 };
 
+// How far the pen is drawn out from its size on every side, metres: the
+// cube, and the shaft's radius and its length at the tip (negative shrinks
+// the radius only).
+struct PenGrow {
+  double cube_m = 0;
+  double shaft_m = 0;
+};
+
 class SolidMeshes {
  public:
   void Create();
   // Draws the scene's obstacles and/or the pen (cube and shaft, grown by
-  // `pen_grow_m` on every side) with the bound program `p` (solid.vert)
-  // projected by `clip_from_tank`.
+  // `pen_grow`) with the bound program `p` (solid.vert) projected by
+  // `clip_from_tank`.
   void Draw(const SceneInputs& scene, const ModelUniforms& p,
             const glm::dmat4& clip_from_tank, bool obstacles, bool pen,
-            double pen_grow_m = 0.0) const;
+            const PenGrow& pen_grow = {}) const;
 
  private:
   Mesh box_, cylinder_;

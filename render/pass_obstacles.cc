@@ -1,6 +1,7 @@
 #include "render/pass_obstacles.h"
 
 #include <algorithm>
+#include <limits>
 
 #include "render/gl_state.h"
 #include "render/shaders.h"
@@ -46,19 +47,53 @@ bool ObstaclesPass::AllocateOutput(int width, int height) {
   return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
 }
 
+namespace {
+
+// Laid in depth before the water where the water blends the pen's outline:
+// the shaft a pixel and a half (at its end nearest the camera) inside its
+// radius, but at least 30% of it.
+double ShaftInsetForOutline(const FrameState& f) {
+  const SceneInputs& scene = *f.scene;
+  const PenGeometry& g = scene.pen;
+  const glm::dmat4& m = scene.tank_from_pen;
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const double z :
+       {-0.5 * g.cube_edge, -0.5 * g.cube_edge - g.shaft_length}) {
+    const glm::dvec3 end(m * glm::dvec4(0, 0, z, 1));
+    nearest = std::min(nearest, glm::distance(end, f.cam_in_tank));
+  }
+  return std::min(1.5 * nearest / f.k->fx, 0.7 * g.shaft_radius);
+}
+
+}  // namespace
+
+void ObstaclesPass::DrawPenPhantom(const FrameState& f,
+                                   const SolidMeshes& solids) {
+  const SceneInputs& scene = *f.scene;
+  if (!scene.pen_visible || !scene.effects.pen_occludes) return;
+  GlStateGuard state;
+  state.Enable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  state.ColorMask(false);
+  glUseProgram(depth_.id());
+  const double grow = scene.pen_margin_m;
+  solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, {grow, grow});
+}
+
 void ObstaclesPass::Draw(const FrameState& f, GLuint target,
                          const SolidMeshes& solids,
-                         const FloorReturnLight& floor_return) {
+                         const FloorReturnLight& floor_return,
+                         bool water_blends_pen_outline) {
   const SceneInputs& scene = *f.scene;
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   const bool pen_phantom = scene.pen_visible && scene.effects.pen_occludes;
-  // The pen's cube and shaft in depth only, grown by `grow_m`.
-  auto draw_phantom = [&](double grow_m) {
+  // The pen's cube and shaft in depth only.
+  auto draw_phantom = [&](const PenGrow& grow) {
     state.ColorMask(false);
     glUseProgram(depth_.id());
-    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, grow_m);
+    solids.Draw(scene, depth_model_, f.clip_from_tank, false, true, grow);
   };
   if (!scene.obstacles.empty()) {
     // The real pen hides the obstacles behind it: its phantom, at its
@@ -70,7 +105,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
       if (rect.z > 0 && rect.w > 0) {
         state.Enable(GL_SCISSOR_TEST);
         glScissor(rect.x, rect.y, rect.z, rect.w);
-        draw_phantom(0.0);
+        draw_phantom({});
         state.ColorMask(true);
         glDisable(GL_SCISSOR_TEST);
       }
@@ -117,7 +152,14 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
   glActiveTexture(GL_TEXTURE0 + kUnitScene);
   glBindTexture(GL_TEXTURE_2D, scene_copy_tex_.id());
 
-  if (pen_phantom) draw_phantom(scene.pen_margin_m);
+  if (pen_phantom) {
+    // The cube keeps its margin: the clean plate leaves the pen's grown
+    // silhouette out of its occluder mask, so the margin is what keeps a
+    // hand's edge beside the cube in front of the water.
+    const double grow = scene.pen_margin_m;
+    draw_phantom(
+        {grow, water_blends_pen_outline ? -ShaftInsetForOutline(f) : grow});
+  }
 }
 
 }  // namespace ripple::render::internal

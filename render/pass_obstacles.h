@@ -5,7 +5,11 @@
 // water's refraction, and lays the real pen's depth (a phantom: no colour):
 // at its size before the obstacles, so that the pen hides an obstacle behind
 // it, and grown by the scene's margin after the copy, so that it hides the
-// water where it is in front of it.
+// water where it is in front of it. Where the water shades the pen's
+// outline itself (water.frag, OverPenOutline), the shaft is laid a pixel and
+// a half inside its size instead (the outline's pixels are the water's to
+// blend), and DrawPenPhantom lays the grown phantom after the water, for the
+// walls.
 //
 // Redraw key: none (the output is redrawn every frame).
 #ifndef RIPPLE_RENDER_PASS_OBSTACLES_H_
@@ -36,8 +40,14 @@ class ObstaclesPass {
   // bound to kUnitScene.
   // `floor_return`: this frame's floor-return means (WaterPass::
   // UpdateFloorLight), for the floor's light under water.
+  // `water_blends_pen_outline`: the water pass shades the shaft's outline
+  // (WaterPass::BlendsPenOutline).
   void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids,
-            const FloorReturnLight& floor_return);
+            const FloorReturnLight& floor_return,
+            bool water_blends_pen_outline);
+  // The pen's phantom grown by the scene's margin, in depth only (into the
+  // bound target), when the scene shows the pen.
+  void DrawPenPhantom(const FrameState& f, const SolidMeshes& solids);
 
   GLuint scene_texture() const { return scene_copy_tex_.id(); }
 

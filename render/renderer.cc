@@ -432,8 +432,12 @@ bool Renderer::Render(const SceneInputs& scene,
   m.BindFrameTextures();
   m.real.Draw(f, m.real_state);
   if (tank_shadow) m.board_light.Draw(f, m.real_state);
-  m.obstacles.Draw(f, m.target.fbo(), m.solids, m.water.floor_return_light());
+  const bool water_shades_pen =
+      internal::WaterPass::ShadesRealPen(f, m.video.have_video(), m.real_state);
+  m.obstacles.Draw(f, m.target.fbo(), m.solids, m.water.floor_return_light(),
+                   water_shades_pen);
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
+  if (water_shades_pen) m.obstacles.DrawPenPhantom(f, m.solids);
   if (fx.walls) {
     m.walls.Draw(f, m.walls_mesh, m.water.floor_return_light(),
                  fx.reflection && m.video.have_video(), m.target.fbo(),

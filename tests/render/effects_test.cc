@@ -1611,5 +1611,171 @@ TEST(EffectsTest, TopFacesCoverTheirEdgePixelsByShare) {
   }
 }
 
+// The real pen's dry shaft in front of the water: along its outline each
+// pixel holds the pen and the water behind it by the share of the pixel the
+// pen covers. The video (640x480, front view, flat water) is a uniform
+// board with a uniform pen painted by exact area cover (8 x 8 samples a
+// pixel, mixed in linear light); the truth at each pixel is c P + (1 - c) W,
+// W the scene rendered without the pen (and its video without it). The tip
+// is held 10 mm over the water (a submerged shaft would show by refraction
+// beside the dry one). Scored on the pixels over the water within 2.5 px of
+// the shaft's outline, from 3 mm above the tip to 10 mm below the cube
+// (nearer, the cube's own margin). Then the tracked pose is
+// moved 0.5 mm across the shaft (half the margin), the video kept: the pixels
+// the pen covers whole must still show the video, the board beside it the
+// water.
+TEST(EffectsTest, PenOutlineHoldsThePenAndTheWaterByShare) {
+  constexpr int kW6 = 640, kH6 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
+  TestScene s = MakeScene(kW6, kH6, View::kFront, false);
+  s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+  s.inputs.pen_visible = true;
+  // The tip 10 mm over the water: no submerged shaft to see by refraction.
+  s.inputs.tank_from_pen = PenPose(s.inputs.tank, -0.01);
+  const PenGeometry& g = s.inputs.pen;
+  const TankGeometry& t = s.inputs.tank;
+  const double level = s.inputs.tank.water_level;
+  const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  const glm::dmat4& pen = s.inputs.tank_from_pen;
+  const glm::dvec3 tip(
+      pen * glm::dvec4(0, 0, -0.5 * g.cube_edge - g.shaft_length, 1));
+  const glm::dvec3 axis = glm::normalize(glm::dvec3(pen[2]));
+  // Per pixel: the share of 8 x 8 sample rays that meet the shaft before
+  // the rest level, and whether the pixel is scored.
+  const int n = 8;
+  std::vector<float> cover(kW6 * kH6, 0.0f);
+  std::vector<std::uint8_t> scored(kW6 * kH6, 0);
+  auto ray = [&](double u, double v) {
+    return glm::normalize(
+        glm::dmat3(tank_from_cam) *
+        glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
+  };
+  // Along the ray from the eye: the axis coordinate and distance of the
+  // ray's point nearest the axis, and whether the shaft is met before z =
+  // level.
+  auto nearest = [&](const glm::dvec3& d, double* u_axis, double* dist) {
+    const glm::dvec3 w0 = eye - tip;
+    const double b = glm::dot(d, axis), dd = glm::dot(d, w0),
+                 e = glm::dot(axis, w0);
+    const double sr = (b * e - dd) / (1 - b * b);
+    const double ua = (e - b * dd) / (1 - b * b);
+    const glm::dvec3 x = eye + sr * d, a = tip + ua * axis;
+    *u_axis = ua;
+    *dist = glm::length(x - a);
+    return x.z > level;
+  };
+  for (int y = 0; y < kH6; ++y) {
+    for (int x = 0; x < kW6; ++x) {
+      int hits = 0;
+      for (int j = 0; j < n; ++j) {
+        for (int i = 0; i < n; ++i) {
+          double ua, dist;
+          const bool dry =
+              nearest(ray(x - 0.5 + (i + 0.5) / n, y - 0.5 + (j + 0.5) / n),
+                      &ua, &dist);
+          hits += dry && dist < g.shaft_radius && ua > 0 && ua < g.shaft_length;
+        }
+      }
+      cover[y * kW6 + x] = float(hits) / (n * n);
+      // Over the water: the pixel's ray meets the rest level inside the
+      // tank.
+      const glm::dvec3 d = ray(x, y);
+      const glm::dvec3 q = eye + d * ((level - eye.z) / d.z);
+      const bool over_water = std::abs(q.x) < 0.5 * t.size_x - 0.002 &&
+                              std::abs(q.y) < 0.5 * t.size_y - 0.002;
+      double ua, dist;
+      nearest(d, &ua, &dist);
+      scored[y * kW6 + x] = over_water && ua > 0.003 &&
+                            ua < g.shaft_length - 0.01 &&
+                            std::abs(dist - g.shaft_radius) <
+                                2.5 * glm::length(eye - tip) / s.k.fx;
+    }
+  }
+  // The board, and the pen over it by its cover, mixed in linear light.
+  const double board = SrgbToLinear(180 / 255.0);
+  const glm::dvec3 pen_bgr(SrgbToLinear(150 / 255.0), SrgbToLinear(60 / 255.0),
+                           SrgbToLinear(40 / 255.0));
+  std::fill(s.video.begin(), s.video.end(), std::uint8_t{180});
+  std::vector<std::uint8_t> with_pen = s.video;
+  for (int p = 0; p < kW6 * kH6; ++p) {
+    for (int c = 0; c < 3; ++c) {
+      const double lin = cover[p] * pen_bgr[c] + (1 - cover[p]) * board;
+      with_pen[3 * p + c] =
+          static_cast<std::uint8_t>(std::lround(255 * LinearToSrgb(lin)));
+    }
+  }
+  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
+  ASSERT_NE(r, nullptr);
+  s.inputs.pen_visible = false;
+  s.inputs.video.bgr = s.video.data();
+  const cv::Mat water = RenderScene(r.get(), s.inputs);
+  s.inputs.pen_visible = true;
+  s.inputs.video.bgr = with_pen.data();
+  const cv::Mat out = RenderScene(r.get(), s.inputs);
+  ASSERT_FALSE(water.empty() || out.empty());
+  double err = 0, err_video = 0;
+  int count = 0, edge = 0;
+  for (int y = 0; y < kH6; ++y) {
+    for (int x = 0; x < kW6; ++x) {
+      const int p = y * kW6 + x;
+      if (!scored[p]) continue;
+      const cv::Vec3b w = water.at<cv::Vec3b>(y, x);
+      for (int c = 0; c < 3; ++c) {
+        const double truth =
+            255 * LinearToSrgb(cover[p] * pen_bgr[c] +
+                               (1 - cover[p]) * SrgbToLinear(w[c] / 255.0));
+        err += std::abs(out.at<cv::Vec3b>(y, x)[c] - truth);
+        err_video += std::abs(with_pen[3 * p + c] - truth);
+      }
+      ++count;
+      edge += cover[p] > 0 && cover[p] < 1;
+    }
+  }
+  ASSERT_GT(count, 150) << "the outline must cross the water";
+  ASSERT_GT(edge, 30);
+  err /= 3 * count;
+  err_video /= 3 * count;
+  std::printf(
+      "pen outline, %d px (%d partly covered): mean |out - truth| %.2f "
+      "levels (the video there: %.2f)\n",
+      count, edge, err, err_video);
+  EXPECT_LT(err, 3.0);
+
+  // The tracked pose 0.5 mm off across the shaft, towards the camera's
+  // right: the video's pen still shows where it covers its pixels whole
+  // (on the scored band), and the water where the pen is not.
+  const glm::dvec3 across =
+      glm::normalize(glm::cross(axis, glm::normalize(tip - eye)));
+  s.inputs.tank_from_pen =
+      glm::translate(glm::dmat4(1.0), 0.0005 * across) * pen;
+  const cv::Mat off = RenderScene(r.get(), s.inputs);
+  int whole = 0, whole_kept = 0, bare = 0, bare_water = 0;
+  for (int y = 0; y < kH6; ++y) {
+    for (int x = 0; x < kW6; ++x) {
+      const int p = y * kW6 + x;
+      if (!scored[p] || (cover[p] > 0 && cover[p] < 1)) continue;
+      const cv::Vec3b o = off.at<cv::Vec3b>(y, x);
+      const cv::Vec3b ref =
+          cover[p] == 1 ? cv::Vec3b(with_pen[3 * p], with_pen[3 * p + 1],
+                                    with_pen[3 * p + 2])
+                        : water.at<cv::Vec3b>(y, x);
+      const bool same =
+          std::max({std::abs(o[0] - ref[0]), std::abs(o[1] - ref[1]),
+                    std::abs(o[2] - ref[2])}) <= 4;
+      (cover[p] == 1 ? whole : bare) += 1;
+      (cover[p] == 1 ? whole_kept : bare_water) += same;
+    }
+  }
+  std::printf(
+      "pose 0.5 mm off: pen pixels kept %d of %d, board pixels left to the "
+      "water %d of %d\n",
+      whole_kept, whole, bare_water, bare);
+  ASSERT_GT(whole, 50);
+  ASSERT_GT(bare, 50);
+  EXPECT_GE(whole_kept, whole * 95 / 100);
+  EXPECT_GE(bare_water, bare * 95 / 100);
+}
+
 }  // namespace
 }  // namespace ripple::render

@@ -47,12 +47,7 @@ bool ObstaclesPass::AllocateOutput(int width, int height) {
   return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
 }
 
-namespace {
-
-// Laid in depth before the water where the water blends the pen's outline:
-// the shaft a pixel and a half (at its end nearest the camera) inside its
-// radius, but at least 30% of it.
-double ShaftInsetForOutline(const FrameState& f) {
+double PenPhantomInset(const FrameState& f) {
   const SceneInputs& scene = *f.scene;
   const PenGeometry& g = scene.pen;
   const glm::dmat4& m = scene.tank_from_pen;
@@ -64,8 +59,6 @@ double ShaftInsetForOutline(const FrameState& f) {
   }
   return std::min(1.5 * nearest / f.k->fx, 0.7 * g.shaft_radius);
 }
-
-}  // namespace
 
 void ObstaclesPass::DrawPenPhantom(const FrameState& f,
                                    const SolidMeshes& solids) {
@@ -83,7 +76,7 @@ void ObstaclesPass::DrawPenPhantom(const FrameState& f,
 void ObstaclesPass::Draw(const FrameState& f, GLuint target,
                          const SolidMeshes& solids,
                          const FloorReturnLight& floor_return,
-                         bool water_blends_pen_outline) {
+                         bool pen_outline_blended) {
   const SceneInputs& scene = *f.scene;
   GlStateGuard state;
   state.Enable(GL_DEPTH_TEST);
@@ -157,8 +150,7 @@ void ObstaclesPass::Draw(const FrameState& f, GLuint target,
     // silhouette out of its occluder mask, so the margin is what keeps a
     // hand's edge beside the cube in front of the water.
     const double grow = scene.pen_margin_m;
-    draw_phantom(
-        {grow, water_blends_pen_outline ? -ShaftInsetForOutline(f) : grow});
+    draw_phantom({grow, pen_outline_blended ? -PenPhantomInset(f) : grow});
   }
 }
 

@@ -5,11 +5,11 @@
 // water's refraction, and lays the real pen's depth (a phantom: no colour):
 // at its size before the obstacles, so that the pen hides an obstacle behind
 // it, and grown by the scene's margin after the copy, so that it hides the
-// water where it is in front of it. Where the water shades the pen's
-// outline itself (water.frag, OverPenOutline), the shaft is laid a pixel and
-// a half inside its size instead (the outline's pixels are the water's to
-// blend), and DrawPenPhantom lays the grown phantom after the water, for the
-// walls.
+// water where it is in front of it. Where the water's pen outline is
+// blended by its share (pass_pen_outline.h), the shaft is laid a pixel and
+// a half inside its size instead (the outline's pixels get the water, to be
+// blended), and DrawPenPhantom lays the grown phantom after the blend, for
+// the walls.
 //
 // Redraw key: none (the output is redrawn every frame).
 #ifndef RIPPLE_RENDER_PASS_OBSTACLES_H_
@@ -40,11 +40,10 @@ class ObstaclesPass {
   // bound to kUnitScene.
   // `floor_return`: this frame's floor-return means (WaterPass::
   // UpdateFloorLight), for the floor's light under water.
-  // `water_blends_pen_outline`: the water pass shades the shaft's outline
-  // (WaterPass::BlendsPenOutline).
+  // `pen_outline_blended`: PenOutlinePass blends the shaft's outline over
+  // the water this frame (WaterPass::ShadesRealPen).
   void Draw(const FrameState& f, GLuint target, const SolidMeshes& solids,
-            const FloorReturnLight& floor_return,
-            bool water_blends_pen_outline);
+            const FloorReturnLight& floor_return, bool pen_outline_blended);
   // The pen's phantom grown by the scene's margin, in depth only (into the
   // bound target), when the scene shows the pen.
   void DrawPenPhantom(const FrameState& f, const SolidMeshes& solids);
@@ -63,6 +62,11 @@ class ObstaclesPass {
   Texture scene_copy_tex_;
   Framebuffer scene_copy_fbo_;
 };
+
+// How far inside its radius the shaft's phantom is laid where the pen's
+// outline is blended (PenOutlinePass): a pixel and a half at the shaft's
+// end nearest the camera, but at most 70% of the radius (metres).
+double PenPhantomInset(const FrameState& f);
 
 }  // namespace ripple::render::internal
 

@@ -52,7 +52,6 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->pen_length = p.Uniform("u_pen_length");
   s->pen_radius = p.Uniform("u_pen_radius");
   s->pen_margin = p.Uniform("u_pen_margin");
-  s->pen_px = p.Uniform("u_pen_px");
   s->plate_map = p.Uniform("u_plate_map");
   s->plate_gain = p.Uniform("u_plate_gain");
   return true;
@@ -393,10 +392,6 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform1f(s.pen_length, real.pen_length);
   glUniform1f(s.pen_radius, real.pen_radius);
   glUniform1f(s.pen_margin, real.pen_margin);
-  // A shading texel's width per metre of distance (radians).
-  glUniform1f(s.pen_px,
-              static_cast<float>(
-                  1.0 / (f.k->fx * (grid_.active() ? grid_.scale.x : 1.0))));
   glUniform4f(s.plate_map, real.plate_map.x, real.plate_map.y, real.plate_map.z,
               real.plate_map.w);
   glUniform1f(s.plate_gain, real.plate_gain);
@@ -502,11 +497,9 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   const bool use[3] = {with_pen, with_plate, with_mirror};
   if (options_.regions) {
     if (with_pen) {
-      region[0] = UnionRect(
+      region[0] =
           PenRefractionRect(f, real.pen_tip, real.pen_axis, real.pen_length,
-                            real.pen_radius, real.pen_margin),
-          PenOutlineRect(f, real.pen_tip, real.pen_axis, real.pen_length,
-                         real.pen_radius, real.pen_margin));
+                            real.pen_radius, real.pen_margin);
     }
     if (with_plate) region[1] = PlateLookupRect(f, real.mask_window);
     if (with_mirror) region[2] = MirrorLookupRect(f, MirroredObjectsRect(f));

@@ -55,10 +55,9 @@ class WaterPass {
   // holds something; `real`: the real pen and the plate (RealObjectsPass).
   void Draw(const FrameState& f, bool have_video, const RealObjectsState& real,
             GLuint target);
-  // Whether Draw shades the real pen: the refracted view of its submerged
-  // shaft, and the outline of its dry shaft in front of the water (blended
-  // by the share the video shows of the pen; ObstaclesPass then lays the
-  // shaft's phantom inside its outline).
+  // Whether Draw shades the real pen (the refracted view of its submerged
+  // shaft): then PenOutlinePass blends its dry shaft's outline over the
+  // water, and ObstaclesPass lays the shaft's phantom inside that outline.
   static bool ShadesRealPen(const FrameState& f, bool have_video,
                             const RealObjectsState& real);
   // The grid the water is shaded on (inactive: the output's pixels).
@@ -97,7 +96,7 @@ class WaterPass {
     GLint under_glass[4] = {-1, -1, -1, -1};  // per wall
     // kRealPen, kRealPlate.
     GLint pen_tip = -1, pen_axis = -1, pen_length = -1, pen_radius = -1,
-          pen_margin = -1, pen_px = -1, plate_map = -1, plate_gain = -1;
+          pen_margin = -1, plate_map = -1, plate_gain = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

@@ -16,6 +16,7 @@
 #include "render/pass_height.h"
 #include "render/pass_mirror.h"
 #include "render/pass_obstacles.h"
+#include "render/pass_pen_outline.h"
 #include "render/pass_present.h"
 #include "render/pass_real.h"
 #include "render/pass_shadow.h"
@@ -147,6 +148,7 @@ struct Renderer::Impl {
   internal::ObstaclesPass obstacles;
   internal::WaterPass water;
   internal::WallsPass walls;
+  internal::PenOutlinePass pen_outline;
   internal::PresentPass present;
   internal::RealObjectsPass real;
   internal::MirrorPass mirror;
@@ -215,8 +217,8 @@ bool Renderer::Impl::Init(std::string* error) {
   if (!video.Create(error) || !shadow.Create(shadow_options, error) ||
       !obstacles.Create(obstacles_options, error) ||
       !water.Create(water_options, error) ||
-      !walls.Create(walls_options, error) || !present.Create(error) ||
-      !real.Create(srgb, error) ||
+      !walls.Create(walls_options, error) || !pen_outline.Create(error) ||
+      !present.Create(error) || !real.Create(srgb, error) ||
       !mirror.Create({o.obstacle_albedo, o.reflection_fade_m}, error) ||
       !envmap.Create(envmap_options, error) ||
       !board_light.Create(internal::BoardLightOptions{}, error)) {
@@ -437,7 +439,11 @@ bool Renderer::Render(const SceneInputs& scene,
   m.obstacles.Draw(f, m.target.fbo(), m.solids, m.water.floor_return_light(),
                    water_shades_pen);
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
-  if (water_shades_pen) m.obstacles.DrawPenPhantom(f, m.solids);
+  if (water_shades_pen) {
+    m.pen_outline.Draw(f, m.real_state, internal::PenPhantomInset(f),
+                       m.target.fbo(), m.target.srgb_fbo());
+    m.obstacles.DrawPenPhantom(f, m.solids);
+  }
   if (fx.walls) {
     m.walls.Draw(f, m.walls_mesh, m.water.floor_return_light(),
                  fx.reflection && m.video.have_video(), m.target.fbo(),

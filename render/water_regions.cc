@@ -145,20 +145,6 @@ glm::ivec4 PenRefractionRect(const FrameState& f, const glm::dvec3& tip,
   return SurfaceNear(f, q, k * (top - lo.z) + 0.001);
 }
 
-glm::ivec4 PenOutlineRect(const FrameState& f, const glm::dvec3& tip,
-                          const glm::dvec3& axis, double length, double radius,
-                          double margin) {
-  const double g = radius + margin;
-  const glm::dvec3 a = tip, b = tip + length * axis;
-  const glm::dvec3 lo = glm::min(a, b) - g, hi = glm::max(a, b) + g;
-  glm::dvec3 corners[8];
-  for (int i = 0; i < 8; ++i) {
-    corners[i] = glm::dvec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y,
-                            i & 4 ? hi.z : lo.z);
-  }
-  return PointsRect(f.clip_from_tank, corners, 8, 2, f.k->width, f.k->height);
-}
-
 glm::ivec4 MirroredObjectsRect(const FrameState& f) {
   const SceneInputs& scene = *f.scene;
   const double two_level = 2.0 * scene.tank.water_level;

@@ -9,11 +9,10 @@
 // as the water pass's own rectangle) whose shading can involve the effect,
 // for the frame's steepest surface slope (the height texture's range):
 //  - the real pen: the refracted ray from the surface meets the submerged
-//    shaft, or the pixel's own ray passes the dry shaft's outline. The surface
-//    point seeing an underwater point P lies within depth(P) * k of the point
-//    above P, k the largest horizontal travel per unit depth of a refracted ray
-//    (the camera's rays to the tank's corners, normals tilted up to the
-//    steepest slope);
+//    shaft. The surface point seeing an underwater point P lies within
+//    depth(P) * k of the point above P, k the largest horizontal travel per
+//    unit depth of a refracted ray (the camera's rays to the tank's corners,
+//    normals tilted up to the steepest slope);
 //  - the mirror (pass_mirror.h): the lookup at the surface point displaced by
 //    2 * kMirrorDepth_m * the normal's xy lands where the mirror holds
 //    something, the mirrored objects' screen box; the displacement is
@@ -46,13 +45,6 @@ constexpr float kMirrorDepth_m = 0.03f;
 glm::ivec4 PenRefractionRect(const FrameState& f, const glm::dvec3& tip,
                              const glm::dvec3& axis, double length,
                              double radius, double margin);
-
-// Pixels whose ray may pass the shaft within `radius` + `margin` of its axis
-// (the shaft's box, grown by that, on screen): where the water blends the
-// dry shaft's outline (water.frag, OverPenOutline).
-glm::ivec4 PenOutlineRect(const FrameState& f, const glm::dvec3& tip,
-                          const glm::dvec3& axis, double length, double radius,
-                          double margin);
 
 // Surface points whose mirror lookup may land inside `mirror_window` (the
 // mirrored objects' window rectangle).

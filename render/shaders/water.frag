@@ -69,7 +69,6 @@ uniform vec3 u_pen_axis;     // ... towards the cube (unit)
 uniform float u_pen_length;  // tip to the cube's face
 uniform float u_pen_radius;  // shaft
 uniform float u_pen_margin;  // the video's pen may lie this far outside
-uniform float u_pen_px;      // a shading texel's width per metre of range
 #endif
 #ifdef REAL_PLATE
 uniform sampler2D u_occluders;  // 1: an occluder, 0.5: the pen (pass_real.h)
@@ -93,70 +92,6 @@ float ShaftHit(vec3 o, vec3 d, float s_max, float radius) {
   bool hit = disc > 0.0 && s > 0.0 && s < s_max &&
              u > -u_pen_margin && u < u_pen_length;
   return hit ? s : s_max;
-}
-
-// The dry shaft in front of the surface, along its outline: the pixel whose
-// ray c + s v passes the shaft's side (0 < s <= s_max, the surface's
-// distance: along the outline, and where the shaft meets the surface;
-// between the tip and the cube) within its radius + margin + a texel holds the pen and the water behind
-// it, by the share c of its footprint the pen covers. The video shows
-// V = c P + (1 - c) B there (P the pen, B the dry board behind it), so the
-// pixel is V + (1 - c) (water - B). B is read a texel beyond the grown
-// outline, P on the axis, and c is V's share along B -> P, kept between the
-// shares that shafts of the tracked radius -+ the margin cover: so a tracked
-// outline off by up to the margin still leaves the pen to the video and the
-// board around it to the water, and a board that is not uniform (a tag's
-// edge behind the outline) moves c no further than the margin allows.
-// Where the pen and the board look alike, or a virtual obstacle hides V or
-// B, the pixel is the water and P by the share the tracked shaft covers.
-// The phantom in depth stops the water a texel and a half inside the
-// outline (pass_obstacles.h).
-vec3 OverPenOutline(vec3 water, vec3 c, vec3 v, float s_max) {
-  vec3 w0 = c - u_pen_tip;
-  float b = dot(v, u_pen_axis);
-  float d = dot(v, w0);
-  float e = dot(u_pen_axis, w0);
-  // The ray's point nearest the axis, on the ray's dry part (a convex
-  // distance: its minimum, else the surface point).
-  float u0 = (e - b * d) / max(1.0 - b * b, 1e-6);
-  float s = clamp(dot(u_pen_tip + u0 * u_pen_axis - c, v), 0.0, s_max);
-  vec3 x = c + s * v;
-  float u = dot(x - u_pen_tip, u_pen_axis);
-  vec3 a = u_pen_tip + u * u_pen_axis;
-  vec3 off = x - a;
-  float dist = length(off);
-  float px = s * u_pen_px;
-  float reach = u_pen_radius + u_pen_margin + px;
-  // Outwards across the outline on screen: perpendicular to the axis and
-  // to the ray, on the ray's side.
-  vec3 side = normalize(cross(u_pen_axis, v));
-  vec3 out_dir = dot(off, side) < 0.0 ? -side : side;
-  vec4 Vs = textureLod(u_scene, VideoUv(u_cam_in_tank + v), 0.0);
-  vec4 Bs = textureLod(u_scene, VideoUv(a + out_dir * (reach + px)), 0.0);
-  vec3 V = DecodeVideo(Vs.rgb);
-  vec3 B = DecodeVideo(Bs.rgb);
-  vec3 P = DecodeVideo(textureLod(u_scene, VideoUv(a), 0.0).rgb);
-  vec3 pb = P - B;
-  float contrast = dot(pb, pb);
-  // The shares a shaft of the tracked radius, and of that radius -+ the
-  // margin, covers (a box filter across the outline).
-  float cover_shaft = clamp(0.5 + (u_pen_radius - dist) / px, 0.0, 1.0);
-  float cover_lo =
-      clamp(0.5 + (u_pen_radius - u_pen_margin - dist) / px, 0.0, 1.0);
-  float cover_hi =
-      clamp(0.5 + (u_pen_radius + u_pen_margin - dist) / px, 0.0, 1.0);
-  float cover_video =
-      clamp(dot(V - B, pb) / max(contrast, 1e-6), cover_lo, cover_hi);
-  // A virtual obstacle drawn over the video there (alpha 0) hides what
-  // the video shows: the tracked shaft's share of the pen's colour.
-  bool seen = Vs.a > 0.5 && Bs.a > 0.5 && contrast > 3e-3;
-  // V - (1 - c) B is the pen's part, c P: never negative.
-  vec3 blended =
-      seen ? max(V - (1.0 - cover_video) * B, vec3(0.0)) +
-                 (1.0 - cover_video) * water
-           : mix(water, P, cover_shaft);
-  bool outline = dist < reach && u > 0.0 && u < u_pen_length;
-  return outline ? blended : water;
 }
 
 #endif
@@ -401,12 +336,6 @@ void main() {
   float x = max(dot(r, u_light), 0.0);
   color += (u_glint_peak * fresnel * sun) *
            exp(-2.0 * u_inv_alpha2 * (1.0 - x));
-#ifdef REAL_PEN
-  // The video's pen is seen straight, not through the glass: the camera's
-  // own ray, to the rest level.
-  color = OverPenOutline(color, u_cam_in_tank, v,
-                         (u_tank.w - u_cam_in_tank.z) / dz);
-#endif
   o_color = vec4(EncodeOutput(color), 1.0);
 #endif
 }

@@ -1,0 +1,87 @@
+#include "render/pass_pen_outline.h"
+
+#include <algorithm>
+#include <limits>
+
+#include "render/gl_state.h"
+#include "render/shaders.h"
+
+namespace ripple::render::internal {
+
+bool PenOutlinePass::Create(std::string* error) {
+  if (!BuildProgram(&program_, "pen outline", "pen_outline.vert",
+                    "pen_outline.frag", "", error)) {
+    return false;
+  }
+  common_.Resolve(program_);  // leaves it bound
+  glUniform1i(program_.Uniform("u_scene"), kUnitScene);
+  pen_tip_ = program_.Uniform("u_pen_tip");
+  pen_axis_ = program_.Uniform("u_pen_axis");
+  pen_length_ = program_.Uniform("u_pen_length");
+  pen_radius_ = program_.Uniform("u_pen_radius");
+  pen_margin_ = program_.Uniform("u_pen_margin");
+  pen_px_ = program_.Uniform("u_pen_px");
+  band_ = program_.Uniform("u_band");
+  // Two strips (sides -1, +1), each two triangles between the inner (0)
+  // and the outer (1) silhouette, from the tip (u = 0) to the cube (1).
+  std::vector<glm::vec3> v;
+  for (const float side : {-1.0f, 1.0f}) {
+    const glm::vec3 in0(0, side, 0), in1(1, side, 0), out0(0, side, 1),
+        out1(1, side, 1);
+    for (const glm::vec3& p : {in0, out0, in1, in1, out0, out1}) v.push_back(p);
+  }
+  vertices_.Create();
+  vao_.Create();
+  glBindVertexArray(vao_.id());
+  glBindBuffer(GL_ARRAY_BUFFER, vertices_.id());
+  glBufferData(GL_ARRAY_BUFFER, v.size() * sizeof(glm::vec3), v.data(),
+               GL_STATIC_DRAW);
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, sizeof(glm::vec3), nullptr);
+  glBindVertexArray(0);
+  glBindBuffer(GL_ARRAY_BUFFER, 0);
+  return true;
+}
+
+void PenOutlinePass::Draw(const FrameState& f, const RealObjectsState& real,
+                          double phantom_inset_m, GLuint target,
+                          GLuint srgb_target) const {
+  if (!real.pen) return;
+  GlStateGuard state;  // no depth test: the stencil says where the water is
+  // Water pixels only, each once: a blended pixel's mark goes to 2.
+  state.Enable(GL_STENCIL_TEST);
+  glStencilFunc(GL_EQUAL, 1, 0xff);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_INCR);
+  state.Enable(GL_BLEND);
+  glBlendFunc(GL_ONE, GL_ONE_MINUS_SRC_ALPHA);
+  if (f.srgb_output) {
+    glBindFramebuffer(GL_FRAMEBUFFER, srgb_target);
+    state.Enable(GL_FRAMEBUFFER_SRGB);
+  }
+  common_.Set(program_, f, f.clip_from_tank);
+  SetUniform(pen_tip_, real.pen_tip);
+  SetUniform(pen_axis_, real.pen_axis);
+  glUniform1f(pen_length_, real.pen_length);
+  glUniform1f(pen_radius_, real.pen_radius);
+  glUniform1f(pen_margin_, real.pen_margin);
+  glUniform1f(pen_px_, static_cast<float>(1.0 / f.k->fx));
+  // From half a pixel inside the phantom to the margin and two pixels out,
+  // pixels at the shaft's end nearest the camera (the widest on screen).
+  double nearest = std::numeric_limits<double>::infinity();
+  for (const double u : {0.0, static_cast<double>(real.pen_length)}) {
+    const glm::dvec3 p =
+        glm::dvec3(real.pen_tip) + u * glm::dvec3(real.pen_axis);
+    nearest = std::min(nearest, glm::distance(p, f.cam_in_tank));
+  }
+  const double px_m = nearest / f.k->fx;
+  glUniform2f(band_,
+              static_cast<float>(std::max(
+                  real.pen_radius - phantom_inset_m - 0.5 * px_m, 0.0)),
+              static_cast<float>(real.pen_radius + real.pen_margin + 2 * px_m));
+  glBindVertexArray(vao_.id());
+  glDrawArrays(GL_TRIANGLES, 0, 12);
+  glBindVertexArray(0);
+  if (f.srgb_output) glBindFramebuffer(GL_FRAMEBUFFER, target);
+}
+
+}  // namespace ripple::render::internal

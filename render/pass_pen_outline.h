@@ -12,9 +12,9 @@
 //
 // Drawn only where the water pass shades the real pen
 // (WaterPass::ShadesRealPen), over a band along each side of the outline
-// only (pen_outline.vert: from inside the phantom to the margin and two
-// pixels out), each pixel once: the stencil's water mark is raised as a
-// pixel is blended.
+// (pen_outline.vert: from inside the phantom to the margin and two pixels
+// out) and the shaft's whole width where it meets the surface, each pixel
+// once: the stencil's water mark is raised as a pixel is blended.
 //
 // Redraw key: none (drawn every frame with the water).
 #ifndef RIPPLE_RENDER_PASS_PEN_OUTLINE_H_
@@ -44,7 +44,7 @@ class PenOutlinePass {
   VertexArray vao_;
   Buffer vertices_;
   GLint pen_tip_ = -1, pen_axis_ = -1, pen_length_ = -1, pen_radius_ = -1,
-        pen_margin_ = -1, pen_px_ = -1, band_ = -1;
+        pen_margin_ = -1, pen_px_ = -1, band_ = -1, along_ = -1;
 };
 
 }  // namespace ripple::render::internal

@@ -2,7 +2,7 @@
 // of the water, along its outline. The video shows the pen there; the water
 // pass has drawn the water up to the shaft's phantom, which ObstaclesPass
 // laid a pixel and a half inside the tracked outline. Each water pixel
-// (stencil 1) that the shaft grown by its margin and two pixels covers is
+// (stencil 1) near the outline, out to the margin and two pixels, is
 // blended here: it holds the pen and the water behind it by the share c of
 // the pixel the pen covers. The video shows V = c P + (1 - c) B (P the pen,
 // B the dry board behind it), so the pixel becomes V + (1 - c) water, with

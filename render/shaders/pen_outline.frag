@@ -1,7 +1,8 @@
 // The real pen's dry shaft in front of the water, along its outline
-// (pass_pen_outline.h): drawn over the shaft grown by its margin and two
-// pixels, on the water's pixels; writes (the pen's part, its share c),
-// blended as out = rgb + (1 - a) water in linear light.
+// (pass_pen_outline.h): drawn over a band along the outline out to the
+// margin and two pixels (pen_outline.vert), on the water's pixels; writes
+// (the pen's part, its share c), blended as out = rgb + (1 - a) water in
+// linear light.
 //
 // The pixel's ray c + s v passes the shaft's side (0 < s <= s_max, the rest
 // level's distance: along the outline, and where the shaft meets the

@@ -96,13 +96,32 @@ std::vector<TagDetection> RoiSearch::Detect(
       full = true;
     } else {
       detections = detector->Detect(gray, rois);
-      // Fall back to the whole frame when a tracked object went missing.
       auto found = [&](const std::vector<TagPlacement>& tags) {
         for (const TagDetection& d : detections)
           for (const TagPlacement& t : tags)
             if (t.id == d.id) return true;
         return false;
       };
+      // An object none of whose tags was found: its own regions again, at
+      // full resolution; only its tags are taken from there.
+      if (options_.retry_full_resolution &&
+          detector->options().quad_decimate > 1.0) {
+        for (const RoiObject& o : objects) {
+          if (!o.cam_from_object || found(*o.tags)) continue;
+          const std::vector<cv::Rect> own =
+              PredictTagRois(options_, camera, {o});
+          if (own.empty()) continue;
+          for (const TagDetection& d : detector->Detect(gray, own, 1.0)) {
+            for (const TagPlacement& t : *o.tags) {
+              if (t.id == d.id) {
+                detections.push_back(d);
+                break;
+              }
+            }
+          }
+        }
+      }
+      // Fall back to the whole frame when a tracked object went missing.
       for (const RoiObject& o : objects)
         if (o.cam_from_object && !o.lost && !found(*o.tags)) full = true;
     }

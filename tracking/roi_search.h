@@ -5,7 +5,8 @@
 // An object lost a moment ago is still looked for around its last pose, so
 // that a pen missed for a frame (blur, a hand, a face at the detector's
 // limit) is found again at once rather than at the next whole-frame search;
-// its absence there forces no whole-frame search.
+// its absence there forces no whole-frame search. An object missing from
+// its regions is looked for there once more at full resolution first.
 #ifndef RIPPLE_TRACKING_ROI_SEARCH_H_
 #define RIPPLE_TRACKING_ROI_SEARCH_H_
 
@@ -28,6 +29,11 @@ struct RoiSearchOptions {
   double margin_px = 12.0;       // box margin added to that, pixels
   // How long a lost object's last pose still places regions (seconds).
   double recent_loss_s = 0.5;
+  // An object none of whose tags the (decimated) search found in the
+  // regions is searched for again in its own regions at full resolution,
+  // before any whole-frame search: a face at the detector's limit (under
+  // about 20 px at decimation 2) that the decimated quad search loses.
+  bool retry_full_resolution = true;
 
   bool IsValid(std::string* error) const;
 };

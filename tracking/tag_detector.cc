@@ -614,8 +614,19 @@ TagDetector::TagDetector(TagDetector&&) noexcept = default;
 TagDetector& TagDetector::operator=(TagDetector&&) noexcept = default;
 
 std::vector<TagDetection> TagDetector::Detect(
-    const cv::Mat& image, const std::vector<cv::Rect>& rois) {
+    const cv::Mat& image, const std::vector<cv::Rect>& rois,
+    std::optional<double> quad_decimate) {
   RIPPLE_CHECK(image.depth() == CV_8U, "TagDetector: image must be 8-bit");
+  RIPPLE_CHECK(!quad_decimate || *quad_decimate >= 1.0,
+               "TagDetector: quad_decimate must be >= 1");
+  // The call's decimation, put back on every return.
+  struct Decimation {
+    apriltag_detector_t* td;
+    float kept;
+    ~Decimation() { td->quad_decimate = kept; }
+  } decimation{impl_->detector, impl_->detector->quad_decimate};
+  if (quad_decimate)
+    impl_->detector->quad_decimate = static_cast<float>(*quad_decimate);
   const cv::Mat* gray = &image;
   if (image.channels() == 3) {
     cv::cvtColor(image, impl_->gray, cv::COLOR_BGR2GRAY);

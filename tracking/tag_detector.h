@@ -145,8 +145,10 @@ class TagDetector {
   // converted). With `rois` non-empty only those rectangles (clipped to the
   // image) are searched, without copying pixels; a tag must lie wholly inside
   // one of them. Duplicate ids keep the detection with the larger margin.
-  std::vector<TagDetection> Detect(const cv::Mat& image,
-                                   const std::vector<cv::Rect>& rois = {});
+  // `quad_decimate` (>= 1) replaces the options' for this call.
+  std::vector<TagDetection> Detect(
+      const cv::Mat& image, const std::vector<cv::Rect>& rois = {},
+      std::optional<double> quad_decimate = std::nullopt);
 
   const TagDetectorOptions& options() const { return options_; }
 

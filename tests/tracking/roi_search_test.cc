@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "tests/shipped_data.h"
+#include "tests/tracking/tag_scene.h"
 #include "tracking/pen_hypotheses.h"
 
 namespace ripple::tracking {
@@ -46,6 +47,57 @@ TEST(RoiSearchTest, BoxesHoldEveryPredictedCornerWithItsMargin) {
   // No pose, no boxes.
   EXPECT_TRUE(
       PredictTagRois(options, camera, {{nullptr, &rig.tank_tags}}).empty());
+}
+
+// A face at the detector's limit: a tag that the decimated quad search
+// (decimation 2, the default) loses at this size but the full-resolution one
+// finds. Tracked, it is found again in its own region at full resolution,
+// without a whole-frame search; without the retry the search falls back to
+// the whole frame, at decimation 2, and finds nothing.
+TEST(RoiSearchTest, AFaceTheDecimatedSearchLosesIsFoundInItsRegion) {
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  auto family = TagFamily::Create("tag36h11");
+  ASSERT_TRUE(family);
+  TagDetector detector(TagDetectorOptions{});
+  ASSERT_GT(detector.options().quad_decimate, 1.0);
+  // The nearest distance at which a 30 mm tag is lost at decimation 2 but
+  // found at full resolution.
+  const int id = 5;
+  cv::Mat image;
+  Pose cam_from_tag;
+  double side_px = 0;
+  for (double z = 0.6; z < 3.0 && image.empty(); z += 0.05) {
+    const Pose pose(
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
+        Eigen::Vector3d(0.02, -0.01, z));
+    const cv::Mat frame =
+        testing::RenderTags(camera, *family, {{id, 0.03, pose}});
+    if (detector.Detect(frame).empty() &&
+        detector.Detect(frame, {}, 1.0).size() == 1) {
+      image = frame;
+      cam_from_tag = pose;
+      side_px = camera.fx * 0.03 / z;
+    }
+  }
+  ASSERT_FALSE(image.empty()) << "no size lost by decimation alone";
+  std::printf("a %.1f px face: lost at decimation 2, found at 1\n", side_px);
+  const std::vector<TagPlacement> tags = {{id, 0.03, Pose()}};
+  for (const bool retry : {true, false}) {
+    RoiSearchOptions options;
+    options.retry_full_resolution = retry;
+    RoiSearch search(options);
+    bool full = false;
+    const std::vector<TagDetection> found = search.Detect(
+        &detector, image, camera, {{&cam_from_tag, &tags}}, &full);
+    if (retry) {
+      ASSERT_EQ(found.size(), 1u);
+      EXPECT_EQ(found[0].id, id);
+      EXPECT_FALSE(full) << "found in its region, no whole-frame search";
+    } else {
+      EXPECT_TRUE(found.empty());
+      EXPECT_TRUE(full) << "missing from its region: the whole frame";
+    }
+  }
 }
 
 TEST(RoiSearchTest, OptionsValidate) {

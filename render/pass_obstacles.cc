@@ -47,7 +47,7 @@ bool ObstaclesPass::AllocateOutput(int width, int height) {
   return AttachColor(&scene_copy_fbo_, scene_copy_tex_);
 }
 
-double PenPhantomInset(const FrameState& f) {
+double PenShaftPixelM(const FrameState& f) {
   const SceneInputs& scene = *f.scene;
   const PenGeometry& g = scene.pen;
   const glm::dmat4& m = scene.tank_from_pen;
@@ -57,7 +57,11 @@ double PenPhantomInset(const FrameState& f) {
     const glm::dvec3 end(m * glm::dvec4(0, 0, z, 1));
     nearest = std::min(nearest, glm::distance(end, f.cam_in_tank));
   }
-  return std::min(1.5 * nearest / f.k->fx, 0.7 * g.shaft_radius);
+  return nearest / f.k->fx;
+}
+
+double PenPhantomInset(const FrameState& f) {
+  return std::min(1.5 * PenShaftPixelM(f), 0.7 * f.scene->pen.shaft_radius);
 }
 
 void ObstaclesPass::DrawPenPhantom(const FrameState& f,

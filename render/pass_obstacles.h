@@ -63,6 +63,10 @@ class ObstaclesPass {
   Framebuffer scene_copy_fbo_;
 };
 
+// A pixel's width at the pen's shaft end nearest the camera (metres): where
+// the shaft is widest on screen.
+double PenShaftPixelM(const FrameState& f);
+
 // How far inside its radius the shaft's phantom is laid where the pen's
 // outline is blended (PenOutlinePass): a pixel and a half at the shaft's
 // end nearest the camera, but at most 70% of the radius (metres).

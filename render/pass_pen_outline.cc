@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 #include "render/gl_state.h"
@@ -50,7 +49,7 @@ bool PenOutlinePass::Create(std::string* error) {
 }
 
 void PenOutlinePass::Draw(const FrameState& f, const RealObjectsState& real,
-                          double phantom_inset_m, GLuint target,
+                          double phantom_inset_m, double px_m, GLuint target,
                           GLuint srgb_target) const {
   if (!real.pen) return;
   GlStateGuard state;  // no depth test: the stencil says where the water is
@@ -71,15 +70,7 @@ void PenOutlinePass::Draw(const FrameState& f, const RealObjectsState& real,
   glUniform1f(pen_radius_, real.pen_radius);
   glUniform1f(pen_margin_, real.pen_margin);
   glUniform1f(pen_px_, static_cast<float>(1.0 / f.k->fx));
-  // From half a pixel inside the phantom to the margin and two pixels out,
-  // pixels at the shaft's end nearest the camera (the widest on screen).
-  double nearest = std::numeric_limits<double>::infinity();
-  for (const double u : {0.0, static_cast<double>(real.pen_length)}) {
-    const glm::dvec3 p =
-        glm::dvec3(real.pen_tip) + u * glm::dvec3(real.pen_axis);
-    nearest = std::min(nearest, glm::distance(p, f.cam_in_tank));
-  }
-  const double px_m = nearest / f.k->fx;
+  // From half a pixel inside the phantom to the margin and two pixels out.
   const float out =
       static_cast<float>(real.pen_radius + real.pen_margin + 2 * px_m);
   glUniform2f(along_, 0.0f, real.pen_length);

@@ -34,9 +34,11 @@ class PenOutlinePass {
   // Blends the outline into `target` (its stencil holding the water pass's
   // marks) through `srgb_target`, its sRGB view, with the scene copy bound
   // to kUnitScene; the pen as `real` gives it, its phantom laid
-  // `phantom_inset_m` inside its radius (ObstaclesPass).
+  // `phantom_inset_m` inside its radius, `px_m` a pixel's width at its
+  // shaft's end nearest the camera (PenPhantomInset, PenShaftPixelM).
   void Draw(const FrameState& f, const RealObjectsState& real,
-            double phantom_inset_m, GLuint target, GLuint srgb_target) const;
+            double phantom_inset_m, double px_m, GLuint target,
+            GLuint srgb_target) const;
 
  private:
   Program program_;

@@ -441,7 +441,8 @@ bool Renderer::Render(const SceneInputs& scene,
   m.water.Draw(f, m.video.have_video(), m.real_state, m.target.fbo());
   if (water_shades_pen) {
     m.pen_outline.Draw(f, m.real_state, internal::PenPhantomInset(f),
-                       m.target.fbo(), m.target.srgb_fbo());
+                       internal::PenShaftPixelM(f), m.target.fbo(),
+                       m.target.srgb_fbo());
     m.obstacles.DrawPenPhantom(f, m.solids);
   }
   if (fx.walls) {

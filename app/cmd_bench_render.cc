@@ -179,18 +179,17 @@ void RealObjects(const tracking::Rig& rig, const RenderBenchScene& s,
   };
   const tracking::Pose cam_from_tank = pose(rs.scene.cam_from_tank);
   pen_silhouette->release();
+  cv::Mat shaft;
   if (rs.scene.pen_visible) {
     const render::PenGeometry& g = rs.scene.pen;
     const glm::dmat4 m = rs.scene.cam_from_tank * rs.scene.tank_from_pen;
-    const tracking::Pose cam_from_pen = pose(m);
-    tracking::DrawPenSilhouette(
-        rs.camera, cam_from_pen, g.cube_edge, g.shaft_radius,
-        Eigen::Vector3d(0, 0, -0.5 * g.cube_edge - g.shaft_length), 2.5,
-        pen_silhouette);
+    PenPlateMasks(rs.camera, pose(m), g.cube_edge, g.shaft_radius,
+                  Eigen::Vector3d(0, 0, -0.5 * g.cube_edge - g.shaft_length),
+                  rs.scene.pen_margin_m, pen_silhouette, &shaft);
   }
   for (int i = 0; i < 4; ++i)
-    (*plate)->Process(clean, cam_from_tank, *pen_silhouette);
-  (*plate)->Process(video, cam_from_tank, *pen_silhouette);
+    (*plate)->Process(clean, cam_from_tank, *pen_silhouette, shaft);
+  (*plate)->Process(video, cam_from_tank, *pen_silhouette, shaft);
   CombineRealMask((*plate)->foreground(), (*plate)->foreground_window(),
                   *pen_silhouette, real_mask);
   SetRealObjectViews(**plate, *real_mask, in);

@@ -829,18 +829,46 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   if (object_frames_ == 0) return;
   for (int c = 0; c < 3; ++c)  // the model as just learned
     limit[c] = std::max(t_high, 4 * object_spread_[c]);
-  // Classify: the object's pixels far from its colour are in front of it.
+  auto differs = [&](const cv::Vec3b& f) {
+    for (int c = 0; c < 3; ++c)
+      if (std::abs(f[c] - object_colour_[c]) > limit[c]) return true;
+    return false;
+  };
+  // Classify: the object's own pixels (kObjectBody and up) a pixel inside
+  // its outline, far from its colour, are in front of it.
+  cv::Mat& core = object_core_;
+  cv::compare(object, kObjectBody, core, cv::CMP_GE);
+  cv::erode(core, core, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
-    const std::uint8_t* ob = object.ptr(y);
+    const std::uint8_t* co = core.ptr(y);
     std::uint8_t* m = mask->ptr(y);
-    for (int x = 0; x < frame.cols; ++x) {
-      if (!ob[x] || m[x]) continue;
-      float d = 0;
-      for (int c = 0; c < 3; ++c)
-        d = std::max(d, std::abs(f[x][c] - object_colour_[c]) - limit[c]);
-      if (d > 0) m[x] = 255;
+    for (int x = 0; x < frame.cols; ++x)
+      if (co[x] && !m[x] && differs(f[x])) m[x] = 255;
+  }
+  // Its outline's pixels mix it with the board, and the margin round it
+  // (kObjectMargin) shows the board where the object's pose is right: a
+  // pixel there joins the occluders only when it differs from the object
+  // and an occluder reaches it, grown a pixel at a time (a hand over the
+  // shaft covers the outline and the margin beside it too; the board beside
+  // a bare shaft is left alone).
+  for (int step = 0; step < kObjectMarginPx; ++step) {
+    cv::dilate(*mask, near_mask,
+               cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    bool grew = false;
+    for (int y = 0; y < frame.rows; ++y) {
+      const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
+      const std::uint8_t* ob = object.ptr(y);
+      const std::uint8_t* co = core.ptr(y);
+      const std::uint8_t* nm = near_mask.ptr(y);
+      std::uint8_t* m = mask->ptr(y);
+      for (int x = 0; x < frame.cols; ++x)
+        if (ob[x] && !co[x] && !m[x] && nm[x] && differs(f[x])) {
+          m[x] = 255;
+          grew = true;
+        }
     }
+    if (!grew) break;
   }
 }
 

@@ -133,12 +133,19 @@ class CleanPlate {
   // summary; the mask is foreground().
   //
   // `object` (same layout, inside `exclude`, or empty): a known object of
-  // one colour (the pen's shaft): its colour is learned from its pixels
-  // marked 255 (where no hand is likely: the shaft's lower half) that no
-  // occluder is next to (per-channel median and spread, blended over
-  // frames); its pixels (any nonzero) that differ from that colour by more
-  // than max(high_threshold, 4 spreads) are occluders in front of it (a
-  // hand holding the pen), in the mask.
+  // one colour (the pen's shaft), by levels: kObjectLearn (255) where its
+  // colour is learned (where no hand is likely: the shaft's lower half),
+  // from the pixels no occluder is next to (per-channel median and spread,
+  // blended over frames); kObjectBody (128) the rest of the object;
+  // kObjectMargin (64) a margin round it for its pose's error, where the
+  // board may show. Its own pixels (128 and up) a pixel inside its outline
+  // that differ from its colour by more than max(high_threshold, 4
+  // spreads) are occluders in front of it (a hand holding the pen), in the
+  // mask; so are the outline's and the margin's pixels that differ from it
+  // within kObjectMarginPx of an occluder.
+  static constexpr std::uint8_t kObjectLearn = 255, kObjectBody = 128,
+                                kObjectMargin = 64;
+  static constexpr int kObjectMarginPx = 3;
   const CleanPlateSummary& Process(const cv::Mat& bgr,
                                    const Pose& cam_from_tank,
                                    const cv::Mat& exclude,
@@ -236,7 +243,7 @@ class CleanPlate {
   // `object_frames_` > 0.
   cv::Vec3f object_colour_{0, 0, 0}, object_spread_{0, 0, 0};
   int object_frames_ = 0;
-  cv::Mat object_inner_, object_near_mask_;  // ClassifyObject's buffers
+  cv::Mat object_inner_, object_core_, object_near_mask_;  // ClassifyObject's
   void ClassifyObject(const cv::Mat& frame, const cv::Mat& object_in_window,
                       cv::Mat* mask_in_window);
   double gain_ = 1.0;

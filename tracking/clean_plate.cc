@@ -846,12 +846,20 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
     for (int x = 0; x < frame.cols; ++x)
       if (co[x] && !m[x] && differs(f[x])) m[x] = 255;
   }
+  // Near an occluder more than a line thin (a hand over the shaft; not a
+  // line of the shaft's own pixels that its shading puts off its colour).
+  cv::Mat& hand_near = object_hand_near_;
+  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
+  cv::erode(*mask, hand_near, k3);
+  cv::dilate(hand_near, hand_near,
+             cv::getStructuringElement(cv::MORPH_RECT, {17, 17}));
   // Its outline's pixels mix it with the board, and the margin round it
   // (kObjectMargin) shows the board where the object's pose is right: a
-  // pixel there joins the occluders only when it differs from the object
-  // and an occluder reaches it, grown a pixel at a time (a hand over the
-  // shaft covers the outline and the margin beside it too; the board beside
-  // a bare shaft is left alone).
+  // pixel there joins the occluders only when it differs from the object,
+  // an occluder reaches it (grown a pixel at a time) and one more than a
+  // line thin lies within 8 px (a hand over the shaft covers the outline
+  // and the margin beside it too; the board beside a bare shaft is left
+  // alone, also where the shaft's own shading puts pixels off its colour).
   for (int step = 0; step < kObjectMarginPx; ++step) {
     cv::dilate(*mask, near_mask,
                cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
@@ -860,10 +868,11 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
       const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
       const std::uint8_t* ob = object.ptr(y);
       const std::uint8_t* co = core.ptr(y);
+      const std::uint8_t* hn = hand_near.ptr(y);
       const std::uint8_t* nm = near_mask.ptr(y);
       std::uint8_t* m = mask->ptr(y);
       for (int x = 0; x < frame.cols; ++x)
-        if (ob[x] && !co[x] && !m[x] && nm[x] && differs(f[x])) {
+        if (ob[x] && !co[x] && !m[x] && nm[x] && hn[x] && differs(f[x])) {
           m[x] = 255;
           grew = true;
         }

@@ -142,7 +142,7 @@ class CleanPlate {
   // that differ from its colour by more than max(high_threshold, 4
   // spreads) are occluders in front of it (a hand holding the pen), in the
   // mask; so are the outline's and the margin's pixels that differ from it
-  // within kObjectMarginPx of an occluder.
+  // within kObjectMarginPx of an occluder, near one more than a line thin.
   static constexpr std::uint8_t kObjectLearn = 255, kObjectBody = 128,
                                 kObjectMargin = 64;
   static constexpr int kObjectMarginPx = 3;
@@ -243,7 +243,8 @@ class CleanPlate {
   // `object_frames_` > 0.
   cv::Vec3f object_colour_{0, 0, 0}, object_spread_{0, 0, 0};
   int object_frames_ = 0;
-  cv::Mat object_inner_, object_core_, object_near_mask_;  // ClassifyObject's
+  // ClassifyObject's buffers.
+  cv::Mat object_inner_, object_core_, object_hand_near_, object_near_mask_;
   void ClassifyObject(const cv::Mat& frame, const cv::Mat& object_in_window,
                       cv::Mat* mask_in_window);
   double gain_ = 1.0;

@@ -234,29 +234,6 @@ bool Pipeline::RemoveLastObstacle() {
 
 int Pipeline::num_obstacles() const { return water_->num_obstacles(); }
 
-void PenPlateMasks(const tracking::Camera& camera,
-                   const tracking::Pose& cam_from_pen, double cube_edge_m,
-                   double shaft_radius_m, const Eigen::Vector3d& tip_in_pen,
-                   double margin_m, cv::Mat* exclude, cv::Mat* object) {
-  const double depth = std::max(0.05, cam_from_pen.translation.z());
-  const double grow_px = margin_m * camera.fx / depth;
-  tracking::DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
-                              tip_in_pen, grow_px, exclude);
-  tracking::DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
-                              tip_in_pen, grow_px, object,
-                              /*with_cube=*/false);
-  cv::Mat body, lower;
-  tracking::DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
-                              tip_in_pen, 0.0, &body,
-                              /*with_cube=*/false);
-  tracking::DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
-                              tip_in_pen, 0.0, &lower,
-                              /*with_cube=*/false, /*shaft_share=*/0.5);
-  object->setTo(tracking::CleanPlate::kObjectMargin, *object);
-  object->setTo(tracking::CleanPlate::kObjectBody, body);
-  object->setTo(tracking::CleanPlate::kObjectLearn, lower);
-}
-
 void CombineRealMask(const cv::Mat& foreground, const cv::Rect& window,
                      const cv::Mat& pen_silhouette, cv::Mat* out) {
   out->create(foreground.size(), CV_8U);
@@ -291,9 +268,10 @@ Pipeline::RealViews Pipeline::UpdateRealObjects(
   const tracking::Pose& cam_from_tank = *tr.tank.cam_from_object;
   cv::Mat exclude;
   if (tr.pen.has_pose() && rig_.pen) {
-    PenPlateMasks(camera_, *tr.pen.cam_from_object, rig_.pen->cube_edge_m,
-                  rig_.pen->shaft_radius_m, rig_.pen->tip_in_pen,
-                  scene_.pen_margin_m, &pen_mask_, &shaft_mask_);
+    tracking::DrawPenPlateMasks(camera_, *tr.pen.cam_from_object,
+                                rig_.pen->cube_edge_m, rig_.pen->shaft_radius_m,
+                                rig_.pen->tip_in_pen, scene_.pen_margin_m,
+                                &pen_mask_, &shaft_mask_);
     exclude = pen_mask_;
   }
   plate_->Process(bgr, cam_from_tank, exclude,

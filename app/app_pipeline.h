@@ -86,20 +86,6 @@ struct FrameReport {
   bool prepared_ahead = false;
 };
 
-// The pen's masks for the clean plate (CleanPlate::Process's `exclude` and
-// `object`), grown by `margin_m` at the pen's depth as the renderer grows
-// the pen's phantom, so that what the plate leaves out is what the phantom
-// decides: `exclude` the shaft and the cube (255); `object` the shaft alone
-// in CleanPlate's levels: its lower half at its own size kObjectLearn
-// (where its colour is learned: a hand holding the pen is rarely there),
-// the rest at its size kObjectBody, the growth kObjectMargin (where the
-// board shows beside a well-tracked shaft). A hand in front of the shaft
-// then differs from the shaft's colour and joins the occluders.
-void PenPlateMasks(const tracking::Camera& camera,
-                   const tracking::Pose& cam_from_pen, double cube_edge_m,
-                   double shaft_radius_m, const Eigen::Vector3d& tip_in_pen,
-                   double margin_m, cv::Mat* exclude, cv::Mat* object);
-
 // The renderer's occluder mask (render/scene.h, OccluderMaskView): the clean
 // plate's foreground (255) over `window`, and the pen's silhouette (128)
 // where nothing is in front of it; `out` keeps the image's size and is

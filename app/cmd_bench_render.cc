@@ -183,9 +183,10 @@ void RealObjects(const tracking::Rig& rig, const RenderBenchScene& s,
   if (rs.scene.pen_visible) {
     const render::PenGeometry& g = rs.scene.pen;
     const glm::dmat4 m = rs.scene.cam_from_tank * rs.scene.tank_from_pen;
-    PenPlateMasks(rs.camera, pose(m), g.cube_edge, g.shaft_radius,
-                  Eigen::Vector3d(0, 0, -0.5 * g.cube_edge - g.shaft_length),
-                  rs.scene.pen_margin_m, pen_silhouette, &shaft);
+    tracking::DrawPenPlateMasks(
+        rs.camera, pose(m), g.cube_edge, g.shaft_radius,
+        Eigen::Vector3d(0, 0, -0.5 * g.cube_edge - g.shaft_length),
+        rs.scene.pen_margin_m, pen_silhouette, &shaft);
   }
   for (int i = 0; i < 4; ++i)
     (*plate)->Process(clean, cam_from_tank, *pen_silhouette, shaft);

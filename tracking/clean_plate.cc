@@ -836,9 +836,10 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   };
   // Classify: the object's own pixels (kObjectBody and up) a pixel inside
   // its outline, far from its colour, are in front of it.
+  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
   cv::Mat& core = object_core_;
   cv::compare(object, kObjectBody, core, cv::CMP_GE);
-  cv::erode(core, core, cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+  cv::erode(core, core, k3);
   for (int y = 0; y < frame.rows; ++y) {
     const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
     const std::uint8_t* co = core.ptr(y);
@@ -849,7 +850,6 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   // Near an occluder more than a line thin (a hand over the shaft; not a
   // line of the shaft's own pixels that its shading puts off its colour).
   cv::Mat& hand_near = object_hand_near_;
-  const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
   cv::erode(*mask, hand_near, k3);
   cv::dilate(hand_near, hand_near,
              cv::getStructuringElement(cv::MORPH_RECT, {17, 17}));
@@ -861,8 +861,7 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
   // and the margin beside it too; the board beside a bare shaft is left
   // alone, also where the shaft's own shading puts pixels off its colour).
   for (int step = 0; step < kObjectMarginPx; ++step) {
-    cv::dilate(*mask, near_mask,
-               cv::getStructuringElement(cv::MORPH_RECT, {3, 3}));
+    cv::dilate(*mask, near_mask, k3);
     bool grew = false;
     for (int y = 0; y < frame.rows; ++y) {
       const cv::Vec3b* f = frame.ptr<cv::Vec3b>(y);
@@ -936,6 +935,27 @@ void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
       cube.push_back(p);
   }
   fill(cube);
+}
+
+void DrawPenPlateMasks(const Camera& camera, const Pose& cam_from_pen,
+                       double cube_edge_m, double shaft_radius_m,
+                       const Eigen::Vector3d& tip_in_pen, double margin_m,
+                       cv::Mat* exclude, cv::Mat* object) {
+  const double depth = std::max(0.05, cam_from_pen.translation.z());
+  const double grow_px = margin_m * camera.fx / depth;
+  DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
+                    tip_in_pen, grow_px, exclude);
+  DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
+                    tip_in_pen, grow_px, object, /*with_cube=*/false);
+  cv::Mat body, lower;
+  DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
+                    tip_in_pen, 0.0, &body, /*with_cube=*/false);
+  DrawPenSilhouette(camera, cam_from_pen, cube_edge_m, shaft_radius_m,
+                    tip_in_pen, 0.0, &lower, /*with_cube=*/false,
+                    /*shaft_share=*/0.5);
+  object->setTo(CleanPlate::kObjectMargin, *object);
+  object->setTo(CleanPlate::kObjectBody, body);
+  object->setTo(CleanPlate::kObjectLearn, lower);
 }
 
 }  // namespace ripple::tracking

@@ -273,6 +273,19 @@ void DrawPenSilhouette(const Camera& camera, const Pose& cam_from_pen,
                        cv::Mat* mask, bool with_cube = true,
                        double shaft_share = 1.0);
 
+// The pen's masks for CleanPlate::Process (`exclude` and `object`), grown
+// by `margin_m` at the pen's depth as the renderer grows the pen's phantom,
+// so that what the plate leaves out is what the phantom decides: `exclude`
+// the shaft and the cube (255); `object` the shaft alone in CleanPlate's
+// levels: its lower half at its own size kObjectLearn (where its colour is
+// learned: a hand holding the pen is rarely there), the rest at its size
+// kObjectBody, the growth kObjectMargin (where the board shows beside a
+// well-tracked shaft).
+void DrawPenPlateMasks(const Camera& camera, const Pose& cam_from_pen,
+                       double cube_edge_m, double shaft_radius_m,
+                       const Eigen::Vector3d& tip_in_pen, double margin_m,
+                       cv::Mat* exclude, cv::Mat* object);
+
 }  // namespace ripple::tracking
 
 #endif  // RIPPLE_TRACKING_CLEAN_PLATE_H_

@@ -43,27 +43,14 @@ const Frames& GetFrames() {
     for (const synth::FrameSpec& s : specs) {
       f.images.push_back(
           renderer.Render(s.scene, s.imaging, s.noise_seed).image);
-      cv::Mat mask;
+      // The pen's masks as the pipeline gives them (its 1 mm margin).
+      cv::Mat mask, shaft;
       if (s.scene.tank_from_pen)
-        DrawPenSilhouette(f.camera,
+        DrawPenPlateMasks(f.camera,
                           s.scene.cam_from_tank * *s.scene.tank_from_pen,
                           f.rig.pen->cube_edge_m, f.rig.pen->shaft_radius_m,
-                          f.rig.pen->tip_in_pen, 2.5, &mask);
+                          f.rig.pen->tip_in_pen, 0.001, &mask, &shaft);
       f.excludes.push_back(mask);
-      // The shaft (128) with its lower half (255), as the pipeline gives it.
-      cv::Mat shaft, lower;
-      if (s.scene.tank_from_pen) {
-        const Pose cam_from_pen =
-            s.scene.cam_from_tank * *s.scene.tank_from_pen;
-        DrawPenSilhouette(f.camera, cam_from_pen, f.rig.pen->cube_edge_m,
-                          f.rig.pen->shaft_radius_m, f.rig.pen->tip_in_pen, 2.5,
-                          &shaft, false);
-        DrawPenSilhouette(f.camera, cam_from_pen, f.rig.pen->cube_edge_m,
-                          f.rig.pen->shaft_radius_m, f.rig.pen->tip_in_pen, 0.0,
-                          &lower, false, 0.5);
-        shaft.setTo(128, shaft);
-        shaft.setTo(255, lower);
-      }
       f.shafts.push_back(shaft);
       f.poses.push_back(s.scene.cam_from_tank);
       f.windows.push_back(TankWindow(f.camera, s.scene.cam_from_tank,

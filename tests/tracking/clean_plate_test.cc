@@ -143,30 +143,18 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
               100.0 * score.false_px / score.truth);
 }
 
-// The pen's shaft as the pipeline hands it to the plate (`object`): its
-// lower half at its size (learn), the rest at its size (body), grown by
-// 1 mm at its depth (margin); `margin_as_body` marks the growth as the
-// shaft's own, as every object pixel was once judged.
+// The pen's shaft as the pipeline hands it to the plate (`object`);
+// `margin_as_body` marks the margin as the shaft's own, as every object
+// pixel was once judged.
 cv::Mat ShaftLevels(const Camera& camera, const Rig& rig,
                     const Pose& cam_from_pen, bool margin_as_body) {
-  const double grow_px =
-      0.001 * camera.fx / std::max(0.05, cam_from_pen.translation.z());
-  cv::Mat grown, body, lower;
-  DrawPenSilhouette(camera, cam_from_pen, rig.pen->cube_edge_m,
-                    rig.pen->shaft_radius_m, rig.pen->tip_in_pen, grow_px,
-                    &grown, /*with_cube=*/false);
-  DrawPenSilhouette(camera, cam_from_pen, rig.pen->cube_edge_m,
-                    rig.pen->shaft_radius_m, rig.pen->tip_in_pen, 0.0, &body,
-                    /*with_cube=*/false);
-  DrawPenSilhouette(camera, cam_from_pen, rig.pen->cube_edge_m,
-                    rig.pen->shaft_radius_m, rig.pen->tip_in_pen, 0.0, &lower,
-                    /*with_cube=*/false, /*shaft_share=*/0.5);
-  grown.setTo(
-      margin_as_body ? CleanPlate::kObjectBody : CleanPlate::kObjectMargin,
-      grown);
-  grown.setTo(CleanPlate::kObjectBody, body);
-  grown.setTo(CleanPlate::kObjectLearn, lower);
-  return grown;
+  cv::Mat exclude, object;
+  DrawPenPlateMasks(camera, cam_from_pen, rig.pen->cube_edge_m,
+                    rig.pen->shaft_radius_m, rig.pen->tip_in_pen, 0.001,
+                    &exclude, &object);
+  if (margin_as_body)
+    object.setTo(CleanPlate::kObjectBody, object == CleanPlate::kObjectMargin);
+  return object;
 }
 
 // A hand holding the pen is found in front of its shaft, also over the

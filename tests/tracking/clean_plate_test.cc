@@ -143,18 +143,17 @@ TEST(CleanPlateTest, FindsHandsOverTheTankOnSyntheticSequences) {
               100.0 * score.false_px / score.truth);
 }
 
-// The pen's shaft as the pipeline hands it to the plate (`object`);
-// `margin_as_body` marks the margin as the shaft's own, as every object
-// pixel was once judged.
-cv::Mat ShaftLevels(const Camera& camera, const Rig& rig,
-                    const Pose& cam_from_pen, bool margin_as_body) {
-  cv::Mat exclude, object;
+// The pen's masks as the pipeline hands them to the plate (its 1 mm
+// margin); `margin_as_body` marks the margin as the shaft's own, as every
+// object pixel was once judged.
+void PenLevels(const Camera& camera, const Rig& rig, const Pose& cam_from_pen,
+               bool margin_as_body, cv::Mat* exclude, cv::Mat* object) {
   DrawPenPlateMasks(camera, cam_from_pen, rig.pen->cube_edge_m,
                     rig.pen->shaft_radius_m, rig.pen->tip_in_pen, 0.001,
-                    &exclude, &object);
+                    exclude, object);
   if (margin_as_body)
-    object.setTo(CleanPlate::kObjectBody, object == CleanPlate::kObjectMargin);
-  return object;
+    object->setTo(CleanPlate::kObjectBody,
+                  *object == CleanPlate::kObjectMargin);
 }
 
 // A hand holding the pen is found in front of its shaft, also over the
@@ -181,12 +180,10 @@ TEST(CleanPlateTest, AHandOverTheShaftIsFoundTheBoardBesideItIsNot) {
     for (const synth::FrameSpec& f : specs) {
       const synth::RenderedFrame r =
           renderer.Render(f.scene, f.imaging, f.noise_seed);
-      const cv::Mat exclude = PenMask(camera, rig, f.scene);
-      cv::Mat object;
+      cv::Mat exclude, object;
       if (f.scene.tank_from_pen)
-        object = ShaftLevels(camera, rig,
-                             f.scene.cam_from_tank * *f.scene.tank_from_pen,
-                             as_body != 0);
+        PenLevels(camera, rig, f.scene.cam_from_tank * *f.scene.tank_from_pen,
+                  as_body != 0, &exclude, &object);
       plate.Process(r.image, f.scene.cam_from_tank, exclude, object);
       if (f.index < 2 || object.empty()) continue;
       cv::Mat hands, pen;

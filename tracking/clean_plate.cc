@@ -421,13 +421,76 @@ void CleanPlate::ComposeShownPlate() {
   ++shown_counter_;
 }
 
+namespace {
+
+// The ratio the board's samples agree on: the peak of the histogram of
+// their logarithms (1% bins, smoothed over +-2 bins), refined by the median
+// of the samples within 5% of it; clamped to [0.25, 4]. Exposure moves by a
+// few percent a frame, so the peak is sought within 10% of the last frame's
+// ratio `previous` while at least a quarter of the samples lie there, and
+// over all ratios otherwise. A hand that enters over the board is not in
+// the last frame's mask, so its samples are taken too: over plain paper
+// they agree on a ratio of their own (skin over paper, about 0.6), which
+// the median, and the histogram's highest peak, take once the hand covers
+// enough of the board; the whole board then read as brighter than the
+// plate and joined the hand.
+float PeakRatio(std::vector<float>* v, float previous) {
+  constexpr float kLo = -1.3863f, kStep = 0.01f;  // ln 0.25, 1% bins
+  constexpr int kBins = 278;                      // to ln 4
+  auto bin = [&](float r) {
+    const float l = std::log(std::max(r, 1e-6f));
+    return std::clamp(static_cast<int>(std::floor((l - kLo) / kStep)), 0,
+                      kBins - 1);
+  };
+  int hist[kBins] = {};
+  for (float r : *v) ++hist[bin(r)];
+  auto peak_in = [&](int b0, int b1, int* best_count) {
+    int best = b0;
+    *best_count = -1;
+    for (int b = b0; b <= b1; ++b) {
+      int count = 0;
+      for (int d = -2; d <= 2; ++d)
+        if (b + d >= 0 && b + d < kBins) count += hist[b + d];
+      if (count > *best_count) {
+        *best_count = count;
+        best = b;
+      }
+    }
+    return best;
+  };
+  // Within 10% of the last ratio (ln 1.1 = 9.5 bins) while a quarter of
+  // the samples lie there.
+  const int last = bin(previous);
+  const int b0 = std::max(0, last - 10), b1 = std::min(kBins - 1, last + 10);
+  int near_count = 0;
+  for (int b = b0; b <= b1; ++b) near_count += hist[b];
+  int best_count = 0;
+  const int best = 4 * near_count >= static_cast<int>(v->size())
+                       ? peak_in(b0, b1, &best_count)
+                       : peak_in(0, kBins - 1, &best_count);
+  const float peak = std::exp(kLo + (best + 0.5f) * kStep);
+  std::vector<float> near;
+  near.reserve(v->size());
+  for (float r : *v)
+    if (std::abs(r / peak - 1.0f) <= 0.05f) near.push_back(r);
+  float out = peak;
+  if (!near.empty()) {
+    auto mid = near.begin() + near.size() / 2;
+    std::nth_element(near.begin(), mid, near.end());
+    out = *mid;
+  }
+  return std::clamp(out, 0.25f, 4.0f);
+}
+
+}  // namespace
+
 void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
                                const cv::Mat& exclude) {
-  // The plate's gain: the median ratio of frame to plate brightness over
-  // known, bright enough board texels (tag black carries no exposure
-  // information); the design's: per channel over its paper. Sampled over
-  // the whole plate (every seventh texel each way), where the camera sees it,
-  // away from known objects and the last frame's occluders, so an occluder
+  // The plate's gain: the ratio of frame to plate brightness that known,
+  // bright enough board texels agree on (PeakRatio; tag black carries no
+  // exposure information); the design's: per channel over its paper. Sampled
+  // over the whole plate (every seventh texel each way), where the camera sees
+  // it, away from known objects and the last frame's occluders, so an occluder
   // over the tank does not move the medians.
   std::vector<float> ratios, prior_ratios[3];
   std::vector<std::pair<cv::Vec3b, cv::Vec3f>> design_samples;
@@ -472,14 +535,11 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
       }
     }
   }
-  auto median = [](std::vector<float>* v) {
-    auto mid = v->begin() + v->size() / 2;
-    std::nth_element(v->begin(), mid, v->end());
-    return std::clamp(*mid, 0.25f, 4.0f);
-  };
-  if (ratios.size() >= 100) gain_ = median(&ratios);
+  if (ratios.size() >= 100)
+    gain_ = PeakRatio(&ratios, static_cast<float>(gain_));
   if (prior_ratios[0].size() >= 100)
-    for (int k = 0; k < 3; ++k) prior_gain_[k] = median(&prior_ratios[k]);
+    for (int k = 0; k < 3; ++k)
+      prior_gain_[k] = PeakRatio(&prior_ratios[k], prior_gain_[k]);
   // A design the camera does not see (another board, another floor): when
   // most of the paper samples are not what it allows, frame after frame, it
   // is dropped and the plate learns without it.

@@ -14,7 +14,9 @@
 // passing over the board never becomes board, and one resting there for
 // longer than `evidence_cap_frames` does. Colours are stored relative to a
 // global gain (the camera's exposure and white balance drift; the gain of each
-// frame is the median ratio of frame to plate over the board).
+// frame is the ratio of frame to plate that most of the board agrees on: the
+// peak of the ratios' histogram, which a hand entering over the board does
+// not move as it moves their median).
 //
 // Per frame, on the plate texels the tank's box hides from the camera:
 //   1. the frame (undistorted to the ideal pinhole, the renderer's output)

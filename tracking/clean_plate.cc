@@ -887,13 +887,9 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
     ++object_frames_;
   }
   if (object_frames_ == 0) return;
-  for (int c = 0; c < 3; ++c)  // the model as just learned
+  // The model as just learned (`accepted` reads the limits and the colour).
+  for (int c = 0; c < 3; ++c)
     limit[c] = std::max(t_high, 4 * object_spread_[c]);
-  auto differs = [&](const cv::Vec3b& f) {
-    for (int c = 0; c < 3; ++c)
-      if (std::abs(f[c] - object_colour_[c]) > limit[c]) return true;
-    return false;
-  };
   // Classify: the object's own pixels (kObjectBody and up) a pixel inside
   // its outline, far from its colour, are in front of it.
   const cv::Mat k3 = cv::getStructuringElement(cv::MORPH_RECT, {3, 3});
@@ -905,7 +901,7 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
     const std::uint8_t* co = core.ptr(y);
     std::uint8_t* m = mask->ptr(y);
     for (int x = 0; x < frame.cols; ++x)
-      if (co[x] && !m[x] && differs(f[x])) m[x] = 255;
+      if (co[x] && !m[x] && !accepted(f[x])) m[x] = 255;
   }
   // Near an occluder more than a line thin (a hand over the shaft; not a
   // line of the shaft's own pixels that its shading puts off its colour).
@@ -931,7 +927,7 @@ void CleanPlate::ClassifyObject(const cv::Mat& frame, const cv::Mat& object,
       const std::uint8_t* nm = near_mask.ptr(y);
       std::uint8_t* m = mask->ptr(y);
       for (int x = 0; x < frame.cols; ++x)
-        if (ob[x] && !co[x] && !m[x] && nm[x] && hn[x] && differs(f[x])) {
+        if (ob[x] && !co[x] && !m[x] && nm[x] && hn[x] && !accepted(f[x])) {
           m[x] = 255;
           grew = true;
         }

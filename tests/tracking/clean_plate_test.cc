@@ -213,23 +213,29 @@ TEST(CleanPlateTest, AHandOverTheShaftIsFoundTheBoardBesideItIsNot) {
   struct Count {
     long long free = 0, free_found = 0, held = 0, held_found = 0;
   };
+  // The frames and their hands' coverage, once for both rules.
+  std::vector<cv::Mat> images, coverage;
+  for (const synth::FrameSpec& f : specs) {
+    images.push_back(renderer.Render(f.scene, f.imaging, f.noise_seed).image);
+    cv::Mat hands, pen;
+    renderer.OccluderCoverage(f.scene, &hands, &pen);
+    coverage.push_back(hands);
+  }
   Count counts[2];
   for (int as_body = 0; as_body < 2; ++as_body) {
     CleanPlate plate(camera, rig.tank.size_x_m, rig.tank.size_y_m,
                      rig.tank.wall_height_m);
     SetPrior(rig, &plate);
     Count& n = counts[as_body];
-    for (const synth::FrameSpec& f : specs) {
-      const synth::RenderedFrame r =
-          renderer.Render(f.scene, f.imaging, f.noise_seed);
+    for (size_t i = 0; i < specs.size(); ++i) {
+      const synth::FrameSpec& f = specs[i];
       cv::Mat exclude, object;
       if (f.scene.tank_from_pen)
         PenLevels(camera, rig, f.scene.cam_from_tank * *f.scene.tank_from_pen,
                   as_body != 0, &exclude, &object);
-      plate.Process(r.image, f.scene.cam_from_tank, exclude, object);
+      plate.Process(images[i], f.scene.cam_from_tank, exclude, object);
       if (f.index < 2 || object.empty()) continue;
-      cv::Mat hands, pen;
-      renderer.OccluderCoverage(f.scene, &hands, &pen);
+      const cv::Mat& hands = coverage[i];
       // The outline and the margin: the shaft less its pixels a pixel
       // inside its outline. Free: no hand within the reach that a hand's
       // pixels may grow into the margin.

@@ -35,8 +35,8 @@ struct TagObservation {
 
 // Matches detections to the object's tags (unknown ids are skipped) and
 // undistorts their corners. Hidden corners stay marked as long as at least
-// three corners of the object are left (three fix a pose); otherwise all
-// are used.
+// three corners of the object are left (three fix a pose, though the
+// tracker reports none from fewer than four); otherwise all are used.
 std::vector<TagObservation> MatchObservations(
     const Camera& camera, const std::vector<TagPlacement>& tags,
     const std::vector<TagDetection>& detections);

@@ -89,6 +89,24 @@ std::vector<TagDetection> RoiSearch::Detect(
   bool full = !options_.enabled || !any_tracked ||
               frames_since_full_ + 1 >= options_.full_search_period;
   std::vector<TagDetection> detections;
+  auto found = [&detections](const std::vector<TagPlacement>& tags) {
+    for (const TagDetection& d : detections)
+      for (const TagPlacement& t : tags)
+        if (t.id == d.id) return true;
+    return false;
+  };
+  // Detections of `object`'s tags only, out of `more`.
+  auto take = [&detections](const RoiObject& object,
+                            const std::vector<TagDetection>& more) {
+    for (const TagDetection& d : more) {
+      for (const TagPlacement& t : *object.tags) {
+        if (t.id == d.id) {
+          detections.push_back(d);
+          break;
+        }
+      }
+    }
+  };
   if (!full) {
     const std::vector<cv::Rect> rois =
         PredictTagRois(options_, camera, objects);
@@ -96,12 +114,6 @@ std::vector<TagDetection> RoiSearch::Detect(
       full = true;
     } else {
       detections = detector->Detect(gray, rois);
-      auto found = [&](const std::vector<TagPlacement>& tags) {
-        for (const TagDetection& d : detections)
-          for (const TagPlacement& t : tags)
-            if (t.id == d.id) return true;
-        return false;
-      };
       // An object none of whose tags was found: its own regions again, at
       // full resolution; only its tags are taken from there.
       if (options_.retry_full_resolution &&
@@ -111,14 +123,7 @@ std::vector<TagDetection> RoiSearch::Detect(
           const std::vector<cv::Rect> own =
               PredictTagRois(options_, camera, {o});
           if (own.empty()) continue;
-          for (const TagDetection& d : detector->Detect(gray, own, 1.0)) {
-            for (const TagPlacement& t : *o.tags) {
-              if (t.id == d.id) {
-                detections.push_back(d);
-                break;
-              }
-            }
-          }
+          take(o, detector->Detect(gray, own, 1.0));
         }
       }
       // Fall back to the whole frame when a tracked object went missing.
@@ -129,6 +134,18 @@ std::vector<TagDetection> RoiSearch::Detect(
   if (full) {
     detections = detector->Detect(gray);
     frames_since_full_ = 0;
+    // Objects not yet acquired that the decimated whole frame missed: the
+    // whole frame once more at a finer decimation, their tags only.
+    const double decimate = detector->options().quad_decimate;
+    std::vector<const RoiObject*> missing;
+    if (options_.acquire_finer && any_tracked && decimate > 1.0)
+      for (const RoiObject& o : objects)
+        if (!o.cam_from_object && !found(*o.tags)) missing.push_back(&o);
+    if (!missing.empty()) {
+      const std::vector<TagDetection> finer =
+          detector->Detect(gray, {}, std::max(1.0, decimate / 2));
+      for (const RoiObject* o : missing) take(*o, finer);
+    }
   } else {
     ++frames_since_full_;
   }

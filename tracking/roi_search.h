@@ -6,7 +6,9 @@
 // that a pen missed for a frame (blur, a hand, a face at the detector's
 // limit) is found again at once rather than at the next whole-frame search;
 // its absence there forces no whole-frame search. An object missing from
-// its regions is looked for there once more at full resolution first.
+// its regions is looked for there once more at full resolution first, and
+// an object not yet acquired is looked for in the whole frame at a finer
+// decimation when the periodic whole-frame search misses it.
 #ifndef RIPPLE_TRACKING_ROI_SEARCH_H_
 #define RIPPLE_TRACKING_ROI_SEARCH_H_
 
@@ -34,6 +36,14 @@ struct RoiSearchOptions {
   // before any whole-frame search: a face at the detector's limit (under
   // about 20 px at decimation 2) that the decimated quad search loses.
   bool retry_full_resolution = true;
+  // A periodic whole-frame search (something else is tracked) that did not
+  // find an object with no pose to place regions from searches the whole
+  // frame again at half the detector's decimation (at least 1); only that
+  // object's tags are taken from there. A face at the detector's limit is
+  // otherwise acquired only when the decimated search finds it by chance,
+  // and the region retry above needs a pose. Off while nothing is tracked,
+  // where every frame is a whole-frame search.
+  bool acquire_finer = true;
 
   bool IsValid(std::string* error) const;
 };

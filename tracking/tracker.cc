@@ -190,6 +190,12 @@ bool Tracker::IsCut(const std::vector<TagDetection>& detections) const {
 bool Tracker::Reportable(const std::vector<TagObservation>& obs,
                          const ObjectPose& pose) const {
   if (pose.rmse_px > options_.max_rmse_px) return false;
+  // Three corners fit a pose exactly whatever their noise: nothing checks it.
+  int corners = 0;
+  for (const TagObservation& o : obs)
+    corners += static_cast<int>(
+        std::count(o.occluded.begin(), o.occluded.end(), false));
+  if (corners < 4) return false;
   if (pose.tag_ids.size() != 1) return true;
   for (const TagObservation& o : obs) {
     if (o.id != pose.tag_ids[0]) continue;

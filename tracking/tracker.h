@@ -228,8 +228,10 @@ class Tracker {
   // after the flip check.
   void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
                        double time_s, Estimate* e) const;
-  // False when `pose` explains its corners worse than max_rmse_px, or rests
-  // on one tag whose corners do not fit a square (max_single_tag_rmse_cells).
+  // False when `pose` explains its corners worse than max_rmse_px, rests on
+  // fewer than four corners (three fit a pose exactly whatever their errors,
+  // so nothing checks it), or on one tag whose corners do not fit a square
+  // (max_single_tag_rmse_cells).
   bool Reportable(const std::vector<TagObservation>& obs,
                   const ObjectPose& pose) const;
   std::optional<Estimate> CheckFlip(const std::vector<TagObservation>& obs,

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "tests/shipped_data.h"
 #include "tests/tracking/tag_scene.h"
 #include "tracking/pen_hypotheses.h"
@@ -98,6 +100,60 @@ TEST(RoiSearchTest, AFaceTheDecimatedSearchLosesIsFoundInItsRegion) {
       EXPECT_TRUE(full) << "missing from its region: the whole frame";
     }
   }
+}
+
+// The periodic whole-frame search, with the board tracked and the pen not
+// yet acquired: a face that decimation 2 loses is found by the finer search
+// of the whole frame, and only its tags are taken from there.
+TEST(RoiSearchTest, AnObjectNotYetAcquiredIsSearchedForFiner) {
+  const Camera camera = MakeIdealCamera(640, 480, 60.0);
+  auto family = TagFamily::Create("tag36h11");
+  ASSERT_TRUE(family);
+  TagDetector detector(TagDetectorOptions{});
+  ASSERT_GT(detector.options().quad_decimate, 1.0);
+  const int board_id = 7, pen_id = 5;
+  const Pose cam_from_board(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
+      Eigen::Vector3d(-0.15, 0.0, 0.8));
+  cv::Mat image;
+  for (double z = 0.6; z < 3.0 && image.empty(); z += 0.05) {
+    const Pose cam_from_pen(
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
+        Eigen::Vector3d(0.05, -0.01, z));
+    const cv::Mat frame = testing::RenderTags(
+        camera, *family,
+        {{board_id, 0.08, cam_from_board}, {pen_id, 0.03, cam_from_pen}});
+    if (detector.Detect(frame).size() == 1 &&
+        detector.Detect(frame, {}, 1.0).size() == 2)
+      image = frame;
+  }
+  ASSERT_FALSE(image.empty()) << "no size lost by decimation alone";
+  const std::vector<TagPlacement> board = {{board_id, 0.08, Pose()}};
+  const std::vector<TagPlacement> pen = {{pen_id, 0.03, Pose()}};
+  auto count = [](const std::vector<TagDetection>& found, int id) {
+    return std::count_if(found.begin(), found.end(),
+                         [id](const TagDetection& d) { return d.id == id; });
+  };
+  for (const bool finer : {true, false}) {
+    RoiSearchOptions options;
+    options.acquire_finer = finer;
+    options.full_search_period = 1;  // every frame a periodic search
+    RoiSearch search(options);
+    bool full = false;
+    const std::vector<TagDetection> found =
+        search.Detect(&detector, image, camera,
+                      {{&cam_from_board, &board}, {nullptr, &pen}}, &full);
+    EXPECT_TRUE(full);
+    EXPECT_EQ(count(found, board_id), 1) << "the board once, decimated";
+    EXPECT_EQ(count(found, pen_id), finer ? 1 : 0);
+  }
+  // With nothing tracked every frame searches the whole frame: no second,
+  // finer search there.
+  RoiSearch search;
+  const std::vector<TagDetection> found = search.Detect(
+      &detector, image, camera, {{nullptr, &board}, {nullptr, &pen}}, nullptr);
+  EXPECT_EQ(count(found, board_id), 1);
+  EXPECT_EQ(count(found, pen_id), 0);
 }
 
 TEST(RoiSearchTest, OptionsValidate) {

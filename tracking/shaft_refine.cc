@@ -421,4 +421,19 @@ bool ShaftRefinePose(const cv::Mat& gray, const Camera& camera,
   return true;
 }
 
+int ShaftEdgeSupport(const cv::Mat& gray, const Camera& camera,
+                     const PenSpec& pen, const ShaftRefineOptions& options,
+                     const Pose& cam_from_pen) {
+  if (gray.empty() || gray.type() != CV_8UC1 || !(pen.shaft_radius_m > 0) ||
+      !(pen.shaft_length_m > 0))
+    return 0;
+  ShaftRefineOptions all = options;
+  all.min_samples_per_side = 0;  // both sides searched, however few
+  std::array<std::vector<Edge>, 2> edges;
+  if (!FindEdges(gray, camera, pen, all, cam_from_pen, pen.shaft_radius_m,
+                 options.search_px, &edges))
+    return 0;
+  return static_cast<int>(std::min(edges[0].size(), edges[1].size()));
+}
+
 }  // namespace ripple::tracking

@@ -110,6 +110,17 @@ bool ShaftRefinePose(
     ShaftRefineResult* result = nullptr,
     const Eigen::Matrix<double, 6, 6>* start_information = nullptr);
 
+// How much of a shaft the image shows where `cam_from_pen` puts it: the
+// edges ShaftRefinePose's search finds on each side's straight line (at the
+// rig's radius, options.search_px either side), the fewer of the two sides.
+// 0 when the shaft's image is shorter than min_length_px or the cube lies
+// behind the camera. The two branches of an ambiguous single face put the
+// shaft in different places, so this tells them apart where the face's
+// corners cannot.
+int ShaftEdgeSupport(const cv::Mat& gray, const Camera& camera,
+                     const PenSpec& pen, const ShaftRefineOptions& options,
+                     const Pose& cam_from_pen);
+
 }  // namespace ripple::tracking
 
 #endif  // RIPPLE_TRACKING_SHAFT_REFINE_H_

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 
 #include "geometry/check.h"
@@ -133,6 +134,8 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!(flip_cost_ratio > 0 && flip_cost_ratio <= 1))
     return fail("flip_cost_ratio must be in (0, 1]");
   if (!(cut_jump_fraction > 0)) return fail("cut_jump_fraction must be > 0");
+  if (!(pen_shaft_resolve_ratio >= 0 && pen_shaft_resolve_ratio < 1))
+    return fail("pen_shaft_resolve_ratio must be in [0, 1)");
   if (!(tank_hold_s >= 0 && pen_hold_s >= 0))
     return fail("hold times must be >= 0");
   return true;
@@ -247,6 +250,36 @@ void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
                                pen_.hypotheses};
   TrackPenHypotheses(options_.pen_hypotheses, in, obs, use_prior, time_s,
                      &e->pose, &e->flip_rejected, &e->jumped, &e->hypotheses);
+}
+
+void Tracker::ResolveByShaft(const cv::Mat& gray,
+                             const std::vector<TagObservation>& obs,
+                             Estimate* e) const {
+  const Pose& other = *e->hypotheses.other;
+  const int reported_edges = ShaftEdgeSupport(
+      gray, camera_, *rig_.pen, options_.pen_shaft, e->pose.cam_from_object);
+  const int other_edges =
+      ShaftEdgeSupport(gray, camera_, *rig_.pen, options_.pen_shaft, other);
+  // Half the samples or more on both sides: a wrong branch's search often
+  // picks up a few edges on a busy table or along a hand's fingers.
+  const int need = std::max((options_.pen_shaft.samples_per_side + 1) / 2, 1);
+  const double ratio = options_.pen_shaft_resolve_ratio;
+  auto clear = [&](int winner, int loser) {
+    return winner >= need && loser <= ratio * winner;
+  };
+  if (clear(other_edges, reported_edges)) {
+    ObjectPose swapped;
+    if (!RefineObjectPose(options_.pose, camera_, obs, other, &swapped) ||
+        !Reportable(obs, swapped))
+      return;
+    e->pose = swapped;
+  } else if (!clear(reported_edges, other_edges)) {
+    return;
+  }
+  e->pose.alternative.reset();
+  e->pose.alternative_rmse_px = std::numeric_limits<double>::infinity();
+  e->hypotheses = PenHypotheses{};
+  e->flip_rejected = false;
 }
 
 std::optional<Tracker::Estimate> Tracker::EstimateTank(
@@ -464,6 +497,9 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
       cv::LUT(*gray, decode_lut_, linear_gray_);
       dense_gray = &linear_gray_;
     }
+    if (pen_estimate && pen_estimate->hypotheses.other && gray &&
+        options_.pen_shaft.enabled && options_.pen_shaft_resolve_ratio > 0)
+      ResolveByShaft(*dense_gray, pen_obs, &*pen_estimate);
     DenseRefineOptions dense_options = options_.pen_dense;
     if (pen_estimate && PenAtRest(pen_obs, time_s))
       dense_options.max_iterations =

@@ -130,6 +130,12 @@ struct TrackerOptions {
   double ambiguity_margin_px = 1.0;
   // The two-hypothesis pen track (tracking/pen_hypotheses.h).
   PenHypothesisOptions pen_hypotheses;
+  // While both branches of an ambiguous pen are alive, its shaft decides
+  // between them: the branch whose shaft the image shows (ShaftEdgeSupport:
+  // edges for at least half of pen_shaft.samples_per_side on both sides) is
+  // kept alone when the other's support is at most this share of it. Needs
+  // the image and pen_shaft.enabled; 0: off.
+  double pen_shaft_resolve_ratio = 0.25;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;
   double pen_hold_s = 0.0;
@@ -228,6 +234,11 @@ class Tracker {
   // after the flip check.
   void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
                        double time_s, Estimate* e) const;
+  // Keeps only the branch of an ambiguous pen whose shaft `gray` shows
+  // (pen_shaft_resolve_ratio); leaves `e` as it is when neither is clear.
+  void ResolveByShaft(const cv::Mat& gray,
+                      const std::vector<TagObservation>& obs,
+                      Estimate* e) const;
   // False when `pose` explains its corners worse than max_rmse_px, rests on
   // fewer than four corners (three fit a pose exactly whatever their errors,
   // so nothing checks it), or on one tag whose corners do not fit a square

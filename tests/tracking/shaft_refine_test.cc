@@ -246,6 +246,52 @@ TEST(ShaftRefineTest, RefusesAnImageWithoutTheShaft) {
                                ShaftRefineOptions{}, &pose, &result));
 }
 
+// The shaft's support where a pose puts it: high at the true pose, low at
+// the pose turned 20 degrees about the line of sight through the cube's
+// centre (the shaft's image turned about the cube, as the other branch of an
+// ambiguous face puts it elsewhere), none on a blank image.
+TEST(ShaftRefineTest, ItsEdgesAreWhereTheTruePosePutsThem) {
+  const Camera camera = DefaultCamera();
+  const Rig rig = test_data::DefaultRig();
+  const ShaftRefineOptions options;
+  std::vector<double> at_truth;
+  int clear = 0, counted = 0;
+  int k = 0;
+  for (const test_data::PenView& view : test_data::RenderPenViews(
+           camera, rig,
+           test_data::SynthSpecs(camera, rig, "benchmark", 24, 4, 11))) {
+    const Pose& truth = view.cam_from_pen;
+    const Eigen::Vector3d axis =
+        (++k % 2 ? 1.0 : -1.0) * truth.translation.normalized();
+    Pose turned = truth;
+    turned.rotation =
+        Eigen::Quaterniond(Eigen::AngleAxisd(20 * kDeg, axis)) * truth.rotation;
+    const int right =
+        ShaftEdgeSupport(view.gray, camera, *rig.pen, options, truth);
+    const int wrong =
+        ShaftEdgeSupport(view.gray, camera, *rig.pen, options, turned);
+    at_truth.push_back(right);
+    // Half the samples or more found: a shaft seen well.
+    if (2 * right >= options.samples_per_side) {
+      ++counted;
+      clear += wrong <= 0.25 * right;
+    }
+    std::printf("view %d: %d edges a side at the true pose, %d turned\n",
+                view.index, right, wrong);
+  }
+  ASSERT_GE(at_truth.size(), 12u);
+  EXPECT_GE(Median(at_truth), 12);
+  EXPECT_GE(counted, 8);
+  EXPECT_EQ(clear, counted);
+  const cv::Mat flat(camera.height, camera.width, CV_8UC1, cv::Scalar(128));
+  EXPECT_EQ(
+      ShaftEdgeSupport(flat, camera, *rig.pen, options,
+                       LookAt(Eigen::Vector3d(0.05, -0.3, 0.4),
+                              Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ())
+                           .Inverse()),
+      0);
+}
+
 TEST(ShaftRefineOptionsTest, RejectsNonsense) {
   std::string error;
   EXPECT_TRUE(ShaftRefineOptions{}.IsValid(&error));

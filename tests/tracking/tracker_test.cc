@@ -795,6 +795,12 @@ TEST(TrackerOptionsTest, Validates) {
   options = TrackerOptions{};
   options.pen_rest_motion_px = NAN;
   EXPECT_FALSE(options.IsValid(&error));
+  for (const double ratio : {-0.1, 1.0, double(NAN)}) {
+    options = TrackerOptions{};
+    options.pen_shaft_resolve_ratio = ratio;
+    EXPECT_FALSE(options.IsValid(&error)) << ratio;
+    EXPECT_NE(error.find("pen_shaft_resolve_ratio"), std::string::npos);
+  }
   EXPECT_EQ(ParsePenMode("best-face"), PenMode::kBestFace);
   EXPECT_FALSE(ParsePenMode("best"));
 }

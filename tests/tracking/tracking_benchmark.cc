@@ -14,11 +14,14 @@
 #include <common/timeprofile.h>
 #include <common/zarray.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <opencv2/imgproc.hpp>
+#include <optional>
 
 #include "geometry/check.h"
+#include "tracking/shaft_refine.h"
 #include "tracking/synth/synth.h"
 #include "tracking/tag_family.h"
 #include "tracking/tracker.h"
@@ -31,6 +34,7 @@ struct Frames {
   Rig rig;
   std::vector<cv::Mat> gray;
   std::vector<double> time_s;
+  std::vector<std::optional<Pose>> cam_from_pen;  // the truth, if in view
 };
 
 // 100 frames: two 50-frame segments (smooth motion, one cut), on the plain
@@ -71,6 +75,11 @@ const Frames& BenchmarkFrames(bool tiles = false) {
       cv::cvtColor(frame.image, gray, cv::COLOR_BGR2GRAY);
       f->gray.push_back(gray);
       f->time_s.push_back(spec.time_s);
+      f->cam_from_pen.push_back(
+          spec.scene.tank_from_pen
+              ? std::optional<Pose>(spec.scene.cam_from_tank *
+                                    *spec.scene.tank_from_pen)
+              : std::nullopt);
     }
     return f;
   }();
@@ -122,6 +131,26 @@ BENCHMARK(BM_DetectFullFrameAt)
     ->Arg(2)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
+
+// The shaft's edge search at the true pose (ShaftEdgeSupport), what the
+// tracker spends per branch on a frame where an ambiguous pen's two
+// branches are both alive (TrackerOptions::pen_shaft_resolve_ratio).
+void BM_ShaftEdgeSupport(benchmark::State& state) {
+  const Frames& f = BenchmarkFrames(true);
+  const ShaftRefineOptions options;
+  size_t i = 0;
+  double edges = 0, calls = 0;
+  for (auto _ : state) {
+    const size_t k = i++ % f.gray.size();
+    if (!f.cam_from_pen[k]) continue;
+    edges += ShaftEdgeSupport(f.gray[k], f.camera, *f.rig.pen, options,
+                              *f.cam_from_pen[k]);
+    ++calls;
+  }
+  state.counters["edges/side"] = calls > 0 ? edges / calls : 0;
+  state.counters["pen_share"] = calls / std::max<double>(i, 1);
+}
+BENCHMARK(BM_ShaftEdgeSupport)->Unit(benchmark::kMicrosecond);
 
 // libapriltag alone on the whole frame, decimate 2, refine_edges on, with
 // min_white_black_diff = range(0) and quad_sigma = range(1) / 10, on the

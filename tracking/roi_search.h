@@ -36,13 +36,14 @@ struct RoiSearchOptions {
   // before any whole-frame search: a face at the detector's limit (under
   // about 20 px at decimation 2) that the decimated quad search loses.
   bool retry_full_resolution = true;
-  // A periodic whole-frame search (something else is tracked) that did not
-  // find an object with no pose to place regions from searches the whole
-  // frame again at half the detector's decimation (at least 1); only that
-  // object's tags are taken from there. A face at the detector's limit is
-  // otherwise acquired only when the decimated search finds it by chance,
-  // and the region retry above needs a pose. Off while nothing is tracked,
-  // where every frame is a whole-frame search.
+  // A whole-frame search made while something else is tracked (the
+  // periodic one, or the fallback below) that did not find an object with
+  // no pose to place regions from searches the whole frame again at half
+  // the detector's decimation (at least 1); only that object's tags are
+  // taken from there. A face at the detector's limit is otherwise acquired
+  // only when the decimated search finds it by chance, and the region retry
+  // above needs a pose. Off while nothing is tracked, where every frame is a
+  // whole-frame search.
   bool acquire_finer = true;
 
   bool IsValid(std::string* error) const;

@@ -273,12 +273,6 @@ std::vector<Eigen::Vector3d> PenRotationErrors(
   return errors;
 }
 
-// A pen at rest is refined with more dense iterations
-// (TrackerOptions::pen_rest_iterations): on the static preset (segments of
-// a still pen, only the noise changing) its raw rotation spreads less about
-// each segment's mean; on the benchmark preset, where the pen moves, the
-// rule fires on few frames and the others' poses are those of the moving
-// pen's iterations exactly.
 // A pen acquired through its most oblique visible face alone (corners
 // projected exactly, 0.15 px of noise) on rendered frames: IPPE's two
 // branches often explain them alike and the track starts ambiguous. Where
@@ -302,6 +296,8 @@ TEST(SynthTrackTest, AnAmbiguousFaceIsResolvedByTheShaft) {
   for (const test_data::PenView& view : test_data::RenderPenViews(
            camera, rig,
            test_data::SynthSpecs(camera, rig, "benchmark", 48, 4, 11))) {
+    // The visible face whose normal is most nearly across the line of
+    // sight.
     const TagPlacement* seen = nullptr;
     double seen_cos = 1;
     for (const TagPlacement& face : rig.pen->faces) {
@@ -309,9 +305,12 @@ TEST(SynthTrackTest, AnAmbiguousFaceIsResolvedByTheShaft) {
           view.pen_tags.end())
         continue;
       const Pose cam_from_tag = view.cam_from_pen * face.object_from_tag;
-      const double c =
-          -cam_from_tag.R().col(2).dot(cam_from_tag.translation.normalized());
-      if (c < seen_cos) seen = &face, seen_cos = std::abs(c);
+      const double c = std::abs(
+          cam_from_tag.R().col(2).dot(cam_from_tag.translation.normalized()));
+      if (c < seen_cos) {
+        seen = &face;
+        seen_cos = c;
+      }
     }
     if (!seen) continue;
     TagDetection d;
@@ -351,6 +350,12 @@ TEST(SynthTrackTest, AnAmbiguousFaceIsResolvedByTheShaft) {
   EXPECT_EQ(with.wrong, 0);
 }
 
+// A pen at rest is refined with more dense iterations
+// (TrackerOptions::pen_rest_iterations): on the static preset (segments of
+// a still pen, only the noise changing) its raw rotation spreads less about
+// each segment's mean; on the benchmark preset, where the pen moves, the
+// rule fires on few frames and the others' poses are those of the moving
+// pen's iterations exactly.
 TEST(SynthTrackTest, APenAtRestIsIteratedFurther) {
   const Camera camera = DefaultCamera();
   const Rig rig = DefaultRig();

@@ -434,7 +434,7 @@ namespace {
 // the median, and the histogram's highest peak, take once the hand covers
 // enough of the board; the whole board then read as brighter than the
 // plate and joined the hand.
-float PeakRatio(std::vector<float>* v, float previous) {
+float PeakRatio(const std::vector<float>& v, float previous) {
   constexpr float kLo = -1.3863f, kStep = 0.01f;  // ln 0.25, 1% bins
   constexpr int kBins = 278;                      // to ln 4
   auto bin = [&](float r) {
@@ -443,7 +443,7 @@ float PeakRatio(std::vector<float>* v, float previous) {
                       kBins - 1);
   };
   int hist[kBins] = {};
-  for (float r : *v) ++hist[bin(r)];
+  for (float r : v) ++hist[bin(r)];
   auto peak_in = [&](int b0, int b1, int* best_count) {
     int best = b0;
     *best_count = -1;
@@ -465,13 +465,13 @@ float PeakRatio(std::vector<float>* v, float previous) {
   int near_count = 0;
   for (int b = b0; b <= b1; ++b) near_count += hist[b];
   int best_count = 0;
-  const int best = 4 * near_count >= static_cast<int>(v->size())
+  const int best = 4 * near_count >= static_cast<int>(v.size())
                        ? peak_in(b0, b1, &best_count)
                        : peak_in(0, kBins - 1, &best_count);
   const float peak = std::exp(kLo + (best + 0.5f) * kStep);
   std::vector<float> near;
-  near.reserve(v->size());
-  for (float r : *v)
+  near.reserve(v.size());
+  for (float r : v)
     if (std::abs(r / peak - 1.0f) <= 0.05f) near.push_back(r);
   float out = peak;
   if (!near.empty()) {
@@ -536,10 +536,10 @@ void CleanPlate::EstimateGains(const cv::Mat& bgr, const Pose& cam_from_tank,
     }
   }
   if (ratios.size() >= 100)
-    gain_ = PeakRatio(&ratios, static_cast<float>(gain_));
+    gain_ = PeakRatio(ratios, static_cast<float>(gain_));
   if (prior_ratios[0].size() >= 100)
     for (int k = 0; k < 3; ++k)
-      prior_gain_[k] = PeakRatio(&prior_ratios[k], prior_gain_[k]);
+      prior_gain_[k] = PeakRatio(prior_ratios[k], prior_gain_[k]);
   // A design the camera does not see (another board, another floor): when
   // most of the paper samples are not what it allows, frame after frame, it
   // is dropped and the plate learns without it.

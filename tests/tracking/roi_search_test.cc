@@ -51,6 +51,35 @@ TEST(RoiSearchTest, BoxesHoldEveryPredictedCornerWithItsMargin) {
       PredictTagRois(options, camera, {{nullptr, &rig.tank_tags}}).empty());
 }
 
+// A frame of `others` (found at decimation 2) and a 30 mm tag `id` at the
+// nearest distance where decimation 2 loses it and full resolution finds
+// it; `image` stays empty when no such distance is found.
+struct LostByDecimation {
+  cv::Mat image;
+  Pose cam_from_tag;
+  double side_px = 0;
+};
+LostByDecimation FrameLostByDecimation(
+    const Camera& camera, const TagFamily& family, TagDetector* detector,
+    int id, const std::vector<testing::PlacedTag>& others) {
+  LostByDecimation out;
+  for (double z = 0.6; z < 3.0 && out.image.empty(); z += 0.05) {
+    const Pose pose(
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
+        Eigen::Vector3d(0.02, -0.01, z));
+    std::vector<testing::PlacedTag> tags = others;
+    tags.push_back({id, 0.03, pose});
+    const cv::Mat frame = testing::RenderTags(camera, family, tags);
+    if (detector->Detect(frame).size() == others.size() &&
+        detector->Detect(frame, {}, 1.0).size() == others.size() + 1) {
+      out.image = frame;
+      out.cam_from_tag = pose;
+      out.side_px = camera.fx * 0.03 / z;
+    }
+  }
+  return out;
+}
+
 // A face at the detector's limit: a tag that the decimated quad search
 // (decimation 2, the default) loses at this size but the full-resolution one
 // finds. Tracked, it is found again in its own region at full resolution,
@@ -62,27 +91,14 @@ TEST(RoiSearchTest, AFaceTheDecimatedSearchLosesIsFoundInItsRegion) {
   ASSERT_TRUE(family);
   TagDetector detector(TagDetectorOptions{});
   ASSERT_GT(detector.options().quad_decimate, 1.0);
-  // The nearest distance at which a 30 mm tag is lost at decimation 2 but
-  // found at full resolution.
   const int id = 5;
-  cv::Mat image;
-  Pose cam_from_tag;
-  double side_px = 0;
-  for (double z = 0.6; z < 3.0 && image.empty(); z += 0.05) {
-    const Pose pose(
-        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
-        Eigen::Vector3d(0.02, -0.01, z));
-    const cv::Mat frame =
-        testing::RenderTags(camera, *family, {{id, 0.03, pose}});
-    if (detector.Detect(frame).empty() &&
-        detector.Detect(frame, {}, 1.0).size() == 1) {
-      image = frame;
-      cam_from_tag = pose;
-      side_px = camera.fx * 0.03 / z;
-    }
-  }
+  const LostByDecimation lost =
+      FrameLostByDecimation(camera, *family, &detector, id, {});
+  const cv::Mat& image = lost.image;
+  const Pose& cam_from_tag = lost.cam_from_tag;
   ASSERT_FALSE(image.empty()) << "no size lost by decimation alone";
-  std::printf("a %.1f px face: lost at decimation 2, found at 1\n", side_px);
+  std::printf("a %.1f px face: lost at decimation 2, found at 1\n",
+              lost.side_px);
   const std::vector<TagPlacement> tags = {{id, 0.03, Pose()}};
   for (const bool retry : {true, false}) {
     RoiSearchOptions options;
@@ -115,18 +131,10 @@ TEST(RoiSearchTest, AnObjectNotYetAcquiredIsSearchedForFiner) {
   const Pose cam_from_board(
       Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
       Eigen::Vector3d(-0.15, 0.0, 0.8));
-  cv::Mat image;
-  for (double z = 0.6; z < 3.0 && image.empty(); z += 0.05) {
-    const Pose cam_from_pen(
-        Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitX())),
-        Eigen::Vector3d(0.05, -0.01, z));
-    const cv::Mat frame = testing::RenderTags(
-        camera, *family,
-        {{board_id, 0.08, cam_from_board}, {pen_id, 0.03, cam_from_pen}});
-    if (detector.Detect(frame).size() == 1 &&
-        detector.Detect(frame, {}, 1.0).size() == 2)
-      image = frame;
-  }
+  const cv::Mat image =
+      FrameLostByDecimation(camera, *family, &detector, pen_id,
+                            {{board_id, 0.08, cam_from_board}})
+          .image;
   ASSERT_FALSE(image.empty()) << "no size lost by decimation alone";
   const std::vector<TagPlacement> board = {{board_id, 0.08, Pose()}};
   const std::vector<TagPlacement> pen = {{pen_id, 0.03, Pose()}};

@@ -32,6 +32,12 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_option("--shadow-sigma", args->shadow_sigma_texels,
                   "--shadows gauss: the Gaussian's standard deviation, shadow "
                   "map texels, 0.5..4 (default 1.5)");
+  sub->add_option("--refraction-filter", args->refraction_filter,
+                  "How the water reads the video where refracted rays land: "
+                  "cubic (Catmull-Rom, keeps the magnified floor sharp; the "
+                  "default) or linear (one bilinear fetch, about 9% less "
+                  "main-pass work)")
+      ->capture_default_str();
   sub->add_flag("--no-reflection", args->no_reflection, "Disable reflection");
   sub->add_flag("--no-refraction", args->no_refraction, "Disable refraction");
   sub->add_option("--water-look", args->water_look,
@@ -194,6 +200,13 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   if (!render::ParseShadowFilter(args->shadows, &o.renderer.shadow_filter)) {
     if (error)
       *error = "--shadows '" + args->shadows + "': use pcf, gauss or hard";
+    return false;
+  }
+  if (!render::ParseRefractionFilter(args->refraction_filter,
+                                     &o.renderer.refraction_filter)) {
+    if (error)
+      *error = "--refraction-filter '" + args->refraction_filter +
+               "': use cubic or linear";
     return false;
   }
   if (!std::isnan(args->shadow_sigma_texels)) {

@@ -41,6 +41,7 @@ struct PipelineArgs {
   std::string reflection = "fold";  // --reflection fold | cubemap
   std::string shadows = "pcf";      // --shadows pcf | gauss | hard
   double shadow_sigma_texels = std::nan("");  // --shadow-sigma; NaN: default
+  std::string refraction_filter = "cubic";    // --refraction-filter
   SmoothingArgs smoothing;  // --smoothing and the filters' cut-offs
 };
 

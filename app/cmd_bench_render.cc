@@ -40,6 +40,7 @@ struct RenderBenchArgs {
   std::string export_dir;
   std::string water_look = "clear";
   std::string shadows = "pcf";  // the real-time renderer's shadow filter
+  std::string refraction_filter = "cubic";  // and its refraction lookup
   // The real-time renderer's reflection map: fold, cubemap, or both (the
   // table with the fold, and the cube map against the same reference).
   std::string reflection = "fold";
@@ -317,6 +318,12 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!render::ParseShadowFilter(args.shadows, &shadow_filter))
     return Fail(kExitBadInput,
                 "--shadows '" + args.shadows + "': use pcf, gauss or hard");
+  render::RefractionFilter refraction_filter;
+  if (!render::ParseRefractionFilter(args.refraction_filter,
+                                     &refraction_filter))
+    return Fail(kExitBadInput, "--refraction-filter '" +
+                                   args.refraction_filter +
+                                   "': use cubic or linear");
   render::ReflectionMap reflection_map = render::ReflectionMap::kFold;
   const bool both_maps = args.reflection == "both";
   if (!both_maps &&
@@ -356,6 +363,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   ro.optics = render::WaterOptics::ForLook(look);
   ro.optics.ambient_share = static_cast<float>(args.ambient);
   ro.shadow_filter = shadow_filter;
+  ro.refraction_filter = refraction_filter;
   ro.reflection_map = reflection_map;
   if (!ParseWaterColumns(args.water_columns, &ro.water_shading_columns))
     return Fail(kExitBadInput, "--water-columns '" + args.water_columns + "'");
@@ -753,6 +761,10 @@ CommandAction SetupBenchRender(CLI::App* sub) {
   sub->add_option("--shadows", args->shadows,
                   "The real-time renderer's shadow filter: pcf, gauss or "
                   "hard (the reference's shadows are soft by construction)")
+      ->capture_default_str();
+  sub->add_option("--refraction-filter", args->refraction_filter,
+                  "The real-time renderer's lookup of the refracted video: "
+                  "cubic or linear")
       ->capture_default_str();
   sub->add_option("--reflection", args->reflection,
                   "The real-time renderer's reflection map: fold, cubemap or "

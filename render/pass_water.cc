@@ -279,6 +279,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
     std::string defines;
     if (options.env_cube) defines += "#define ENV_CUBE 1\n";
     if (options.sky) defines += "#define SKY 1\n";
+    if (options.cubic_refraction) defines += "#define REFRACTION_CUBIC 1\n";
     if (v & kShadows) defines += "#define SHADOWS 1\n";
     if (v & kCaustics) defines += "#define CAUSTICS 1\n";
     if (v & kReflection) defines += "#define REFLECTION 1\n";

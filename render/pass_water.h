@@ -37,6 +37,9 @@ class WaterPass {
     // (pass_envmap.h) rather than the fold; the daylight sky over it.
     bool env_cube = false;
     bool sky = false;
+    // The refracted video by Catmull-Rom interpolation, not one bilinear
+    // fetch (RefractionFilter).
+    bool cubic_refraction = true;
     // Shade the real pen, the clean plate and the mirror only inside their
     // regions (water_regions.h) and the rest of the water without them; the
     // output is the same. false: every water pixel takes every effect.

@@ -75,6 +75,27 @@ bool ParseShadowFilter(const std::string& name, ShadowFilter* filter) {
   return false;
 }
 
+const char* RefractionFilterName(RefractionFilter filter) {
+  switch (filter) {
+    case RefractionFilter::kLinear:
+      return "linear";
+    case RefractionFilter::kCubic:
+      return "cubic";
+  }
+  return "?";
+}
+
+bool ParseRefractionFilter(const std::string& name, RefractionFilter* filter) {
+  for (RefractionFilter f :
+       {RefractionFilter::kLinear, RefractionFilter::kCubic}) {
+    if (name == RefractionFilterName(f)) {
+      *filter = f;
+      return true;
+    }
+  }
+  return false;
+}
+
 const char* ReflectionMapName(ReflectionMap map) {
   switch (map) {
     case ReflectionMap::kFold:
@@ -203,6 +224,8 @@ bool Renderer::Impl::Init(std::string* error) {
   water_options.optics = o.optics;
   water_options.env_cube = cube;
   water_options.sky = sky;
+  water_options.cubic_refraction =
+      o.refraction_filter == RefractionFilter::kCubic;
   water_options.regions = o.water_regions;
   water_options.shading_columns = o.water_shading_columns;
   const internal::WallsPass::Options walls_options{o.optics, cube, sky};

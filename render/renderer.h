@@ -71,6 +71,26 @@ const char* ShadowFilterName(ShadowFilter filter);
 // Parses a ShadowFilterName; false for anything else.
 bool ParseShadowFilter(const std::string& name, ShadowFilter* filter);
 
+// How the water reads the camera's frame where a refracted ray meets the
+// floor (or the pen, or the board beyond a wall). Seen through flat water
+// the floor is magnified by about n = 1.33, so every output pixel falls
+// between the frame's pixels: a bilinear lookup's response to a pattern of
+// 4 pixels' period falls to 0.71 at half a pixel's offset, Catmull-Rom's
+// to 0.88 (docs/render.md, "The refracted floor, sharp").
+enum class RefractionFilter {
+  // One bilinear fetch.
+  kLinear,
+  // Catmull-Rom (cubic) interpolation from five bilinear fetches (the
+  // centre's 2x2 and one texel pair on each side; the four corner taps,
+  // each under 1.6% of the weight, left out and the rest renormalised).
+  kCubic,
+};
+
+// "linear", "cubic".
+const char* RefractionFilterName(RefractionFilter filter);
+// Parses a RefractionFilterName; false for anything else.
+bool ParseRefractionFilter(const std::string& name, RefractionFilter* filter);
+
 // Where the water's and the glass's reflections find the surroundings.
 enum class ReflectionMap {
   // The flat fold: the reflected ray's vanishing point (the surroundings
@@ -121,6 +141,7 @@ struct RendererOptions {
   int surface_grid = 8;
   int shadow_map_size = 512;  // texels per side
   ShadowFilter shadow_filter = ShadowFilter::kPcf;
+  RefractionFilter refraction_filter = RefractionFilter::kCubic;
   // kGauss: the Gaussian's standard deviation, shadow map texels, in
   // [0.5, 4]. A light disc of angular radius r seen from a receiver d metres
   // below an occluder's edge spreads that edge with the standard deviation

@@ -199,7 +199,8 @@ TEST(CliTest, OpticsOptionsAreChecked) {
        {std::string("--water-look murky"), std::string("--ambient 1.5"),
         std::string("--ambient -0.1"), std::string("--light-size 0"),
         std::string("--light-size 90"), std::string("--shadows blur"),
-        std::string("--shadow-sigma 9")}) {
+        std::string("--shadow-sigma 9"),
+        std::string("--refraction-filter sharp")}) {
     const auto r =
         RunRipple("demo --frames 10 --idle-frames 1 --out " + dir + " " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
@@ -347,6 +348,11 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--shadows 'blur'"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad3"));
+  r = RunRipple("bench render --refraction-filter sharp --out " + dir +
+                "/bad4");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--refraction-filter 'sharp'"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad4"));
 }
 
 // `ripple sun`: NREL SPA's worked example (azimuth 194.340, true elevation

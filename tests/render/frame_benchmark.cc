@@ -189,15 +189,20 @@ enum Without : int {
   kWalls,
   kPenOcclusion,
   kObstacles,
-  kVideoUpload,   // the video is uploaded once, not every frame
-  kWaterShading,  // flat-colour water (mesh and stencil still drawn)
-  kRealObjects,   // no submerged pen or plate lookups in the water
-  kTankShadow,    // not taken away but added: the tank's shadow (off by
-                  // default) on the board around the tank
+  kVideoUpload,      // the video is uploaded once, not every frame
+  kWaterShading,     // flat-colour water (mesh and stencil still drawn)
+  kRealObjects,      // no submerged pen or plate lookups in the water
+  kTankShadow,       // not taken away but added: the tank's shadow (off by
+                     // default) on the board around the tank
+  kCubicRefraction,  // the refracted video by one bilinear fetch, not the
+                     // default Catmull-Rom lookup (RefractionFilter)
 };
 void BM_MainPassWithout(benchmark::State& state) {
   const Without without = static_cast<Without>(state.range(0));
-  auto f = Make(state, Backend::kEgl);
+  RendererOptions options;
+  if (without == kCubicRefraction)
+    options.refraction_filter = RefractionFilter::kLinear;
+  auto f = Make(state, Backend::kEgl, false, options);
   if (!f) return;
   SceneInputs& in = f->scene.inputs;
   in.effects.shadows = in.effects.caustics = false;
@@ -227,7 +232,7 @@ void BM_MainPassWithout(benchmark::State& state) {
 }
 BENCHMARK(BM_MainPassWithout)
     ->ArgNames({"without"})
-    ->DenseRange(kNothing, kTankShadow)
+    ->DenseRange(kNothing, kCubicRefraction)
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

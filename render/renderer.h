@@ -82,7 +82,7 @@ enum class RefractionFilter {
   kLinear,
   // Catmull-Rom (cubic) interpolation from five bilinear fetches (the
   // centre's 2x2 and one texel pair on each side; the four corner taps,
-  // each under 1.6% of the weight, left out and the rest renormalised).
+  // each under 0.6% of the weight, left out and the rest renormalised).
   kCubic,
 };
 

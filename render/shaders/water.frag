@@ -139,7 +139,7 @@ vec3 GlassWallShift(vec3 c, vec3 v) {
 // where one bilinear fetch blurs a fine pattern): the weights of the
 // frame's 4 x 4 texels around uv are separable, w0..w3 per axis; the middle
 // pair's weights (both positive) are taken by one bilinear fetch between
-// them, and the four corner taps (w0 w0, w0 w3, ...: each under 1.6% of the
+// them, and the four corner taps (w0 w0, w0 w3, ...: each under 0.6% of the
 // total) are left out and the other five renormalised. Beside a hard edge
 // the negative lobes overshoot by up to 7% of the step for a pixel (a
 // halo that clamping to the fetches' range would take away with most of

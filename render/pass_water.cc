@@ -276,6 +276,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   for (int v = 0; v < kVariants; ++v) {
     if ((v & (kRealPen | kRealPlate)) && !(v & kRefraction)) continue;
     if ((v & kMirror) && !(v & kReflection)) continue;
+    if ((v & kWallFree) && !(v & kRefraction)) continue;
     std::string defines;
     if (options.env_cube) defines += "#define ENV_CUBE 1\n";
     if (options.sky) defines += "#define SKY 1\n";
@@ -287,6 +288,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
     if (v & kRealPen) defines += "#define REAL_PEN 1\n";
     if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
     if (v & kMirror) defines += "#define MIRROR 1\n";
+    if (v & kWallFree) defines += "#define WALL_FREE 1\n";
     if (!BuildShading(&variants_[v], defines, options, error)) return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
@@ -492,11 +494,16 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     glBindVertexArray(0);
     return;
   }
-  // The pen, the plate and the mirror, each only inside its region
-  // (water_regions.h).
-  glm::ivec4 region[3] = {rect, rect, rect};
-  const bool use[3] = {with_pen, with_plate, with_mirror};
+  // The pen, the plate and the mirror, each only inside its region, and the
+  // walls only outside theirs (water_regions.h). The wall-free rectangle is
+  // in the output's pixels: not on the coarse grid.
+  glm::ivec4 region[kRegions] = {rect, rect, rect, {}};
+  bool use[kRegions] = {with_pen, with_plate, with_mirror, false};
   if (options_.regions) {
+    if (fx.refraction && !grid_.active()) {
+      region[3] = WallFreeRect(f);
+      use[3] = region[3].z > 0 && region[3].w > 0;
+    }
     if (with_pen) {
       region[0] =
           PenRefractionRect(f, real.pen_tip, real.pen_axis, real.pen_length,
@@ -516,8 +523,9 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // marked pixels. The grid is cleared only around the water: the upsampling
   // reads no texel outside the outline.
   const glm::ivec4 coarse_rect = grid_.RectOut(rect, 2);
-  glm::ivec4 coarse_region[3];
-  for (int i = 0; i < 3; ++i) coarse_region[i] = grid_.RectOut(region[i], 1);
+  glm::ivec4 coarse_region[kRegions];
+  for (int i = 0; i < kRegions; ++i)
+    coarse_region[i] = use[i] ? grid_.RectOut(region[i], 1) : region[i];
   glBindFramebuffer(GL_FRAMEBUFFER, coarse_fbo_.id());
   glViewport(0, 0, grid_.width, grid_.height);
   glScissor(coarse_rect.x, coarse_rect.y, coarse_rect.z, coarse_rect.w);
@@ -542,23 +550,26 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
 
 void WaterPass::ShadeCells(const FrameState& f, const RealObjectsState& real,
                            int base, const glm::ivec4& rect,
-                           const glm::ivec4 region_in[3],
-                           const bool use[3]) const {
+                           const glm::ivec4 region_in[kRegions],
+                           const bool use[kRegions]) const {
   // The rectangle is cut along the regions' edges into cells, and each run
   // of cells along a row that the same regions hold is drawn once,
   // scissored, by the program with just those effects. The cells do not
   // overlap: llvmpipe's stencil test of a block it then rejects costs about
   // a tenth of shading it.
-  const int bit[3] = {kRealPen, kRealPlate, kMirror};
-  glm::ivec4 region[3] = {region_in[0], region_in[1], region_in[2]};
+  const int bit[kRegions] = {kRealPen, kRealPlate, kMirror, kWallFree};
+  glm::ivec4 region[kRegions];
+  std::copy(region_in, region_in + kRegions, region);
   std::vector<int> xs = {rect.x, rect.x + rect.z};
   std::vector<int> ys = {rect.y, rect.y + rect.w};
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < kRegions; ++i) {
     if (!use[i]) continue;
     // Grown out to llvmpipe's 4x4 blocks: a block that a cell's scissor
     // cuts is shaded whole (its pixels outside masked), so an edge inside a
     // block would shade it once per side. A larger region is still right.
-    if (region[i].z > 0 && region[i].w > 0) {
+    // The wall-free rectangle bounds where an effect is absent: it comes
+    // shrunk to whole blocks already.
+    if (bit[i] != kWallFree && region[i].z > 0 && region[i].w > 0) {
       const int x0 = region[i].x & ~3, y0 = region[i].y & ~3;
       const int x1 = (region[i].x + region[i].z + 3) & ~3;
       const int y1 = (region[i].y + region[i].w + 3) & ~3;
@@ -575,7 +586,7 @@ void WaterPass::ShadeCells(const FrameState& f, const RealObjectsState& real,
   ys.erase(std::unique(ys.begin(), ys.end()), ys.end());
   auto effects_at = [&](int x, int y) {
     int e = 0;
-    for (int i = 0; i < 3; ++i) {
+    for (int i = 0; i < kRegions; ++i) {
       const glm::ivec4& r = region[i];
       if (use[i] && x >= r.x && x < r.x + r.z && y >= r.y && y < r.y + r.w)
         e |= bit[i];

@@ -88,7 +88,11 @@ class WaterPass {
     kRealPlate = 32,
     // Only with kReflection: the mirrored obstacles and pen (pass_mirror.h).
     kMirror = 64,
-    kVariants = 128,
+    // Only with kRefraction: no wall in the view ray's or the refracted
+    // ray's way (WallFreeRect in water_regions.h), so neither the glass's
+    // shift nor the walls' paths are in the program.
+    kWallFree = 128,
+    kVariants = 256,
   };
   struct Shading {
     Program program;
@@ -108,11 +112,13 @@ class WaterPass {
                const RealObjectsState& real) const;
   // Shades the stencil-marked pixels of the bound target inside `rect`
   // (its pixels), cut into cells by the regions (`region[i]` used where
-  // `use[i]`: the real pen, the plate, the mirror) each shaded by the
-  // variant `base` plus the effects of the regions holding it.
+  // `use[i]`: the real pen, the plate, the mirror, and the wall-free
+  // rectangle) each shaded by the variant `base` plus the variant bits of
+  // the regions holding it.
+  static constexpr int kRegions = 4;
   void ShadeCells(const FrameState& f, const RealObjectsState& real, int base,
-                  const glm::ivec4& rect, const glm::ivec4 region[3],
-                  const bool use[3]) const;
+                  const glm::ivec4& rect, const glm::ivec4 region[kRegions],
+                  const bool use[kRegions]) const;
   // The coarse grid's stencil: the tank's box over this frame's surface
   // heights on screen, grown so that every coarse texel an output water
   // pixel interpolates from is shaded.

@@ -80,15 +80,14 @@ double SlopeMax(const FrameState& f) {
   return std::hypot(sx, sy);
 }
 
-// The largest horizontal travel per unit depth of a ray refracted into the
-// water: the camera's rays to the tank's corners at the rest level (the
-// steepest incidence is at the farthest corner), the normal tilted by up to
-// `slope` in 16 directions, and 10 % over the samples; infinity when a ray
-// could run near the horizontal.
-double RefractedReach(const FrameState& f, double slope) {
+// Calls `ray(r)` for rays refracted into the water: the camera's rays to
+// the tank's corners at the rest level (the steepest incidence is at the
+// farthest corner), the normal tilted by up to `slope` in 16 directions.
+// False when one could run near the horizontal (then no bound is made).
+template <typename F>
+bool ForRefractedRays(const FrameState& f, double slope, F&& ray) {
   const TankGeometry& t = f.scene->tank;
   const double eta = 1.0 / f.optics->ior;
-  double k = 0;
   for (int c = 0; c < 4; ++c) {
     const glm::dvec3 corner((c & 1 ? 0.5 : -0.5) * t.size_x,
                             (c & 2 ? 0.5 : -0.5) * t.size_y, t.water_level);
@@ -100,12 +99,35 @@ double RefractedReach(const FrameState& f, double slope) {
         const glm::dvec3 n = glm::normalize(
             glm::dvec3(-m * std::cos(phi), -m * std::sin(phi), 1));
         const glm::dvec3 r = glm::refract(v, n, eta);
-        if (!(r.z < -0.1)) return std::numeric_limits<double>::infinity();
-        k = std::max(k, std::hypot(r.x, r.y) / -r.z);
+        if (!(r.z < -0.1)) return false;
+        ray(r);
       }
     }
   }
-  return 1.1 * k;
+  return true;
+}
+
+// The largest horizontal travel per unit depth of a ray refracted into the
+// water (ForRefractedRays), 10 % over the samples; infinity when a ray
+// could run near the horizontal.
+double RefractedReach(const FrameState& f, double slope) {
+  double k = 0;
+  const bool bounded = ForRefractedRays(f, slope, [&](const glm::dvec3& r) {
+    k = std::max(k, std::hypot(r.x, r.y) / -r.z);
+  });
+  return bounded ? 1.1 * k : std::numeric_limits<double>::infinity();
+}
+
+// The same towards each wall (-x, +x, -y, +y; 0 for a wall every ray moves
+// away from); false when a ray could run near the horizontal.
+bool RefractedTravel(const FrameState& f, double slope, double travel[4]) {
+  for (int w = 0; w < 4; ++w) travel[w] = 0;
+  return ForRefractedRays(f, slope, [&](const glm::dvec3& r) {
+    for (int w = 0; w < 4; ++w) {
+      const double toward = (w & 1 ? 1.0 : -1.0) * r[w / 2] / -r.z;
+      travel[w] = std::max(travel[w], 1.1 * toward);
+    }
+  });
 }
 
 }  // namespace
@@ -230,6 +252,114 @@ glm::ivec4 MirrorLookupRect(const FrameState& f,
   if (pts.empty()) return {0, 0, 0, 0};
   return PointsRect(f.clip_from_tank, pts.data(), static_cast<int>(pts.size()),
                     2, f.k->width, f.k->height);
+}
+
+glm::ivec4 WallFreeRect(const FrameState& f) {
+  const TankGeometry& t = f.scene->tank;
+  const glm::dvec3& c = f.cam_in_tank;
+  // The surface's heights this frame: the height texture's decoded range.
+  const HeightFieldInfo& h = f.height;
+  const double h0 =
+      std::min(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x);
+  const double h1 =
+      std::max(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x);
+  const double z_lo = t.water_level + h0 - 1e-4;
+  const double z_hi = t.water_level + h1 + 1e-4;
+  if (!(c.z > std::max<double>(t.wall_height, z_hi) + 1e-3)) return {};
+  double travel[4];
+  if (!RefractedTravel(f, SlopeMax(f), travel)) return {};
+  const double half[2] = {0.5 * t.size_x, 0.5 * t.size_y};
+  double lo[2], hi[2];
+  for (int a = 0; a < 2; ++a) {
+    // The refracted ray's reach towards each wall over the deepest water,
+    // plus a millimetre.
+    lo[a] = -half[a] + travel[2 * a] * z_hi + 0.001;
+    hi[a] = half[a] - travel[2 * a + 1] * z_hi - 0.001;
+    // A wall the camera is outside of: its glass is crossed by the view ray
+    // to a surface point p (height z) when the ray is under the wall's top
+    // H at the glass's outer face W = half + d. Along the axis, with u =
+    // side * p and C = side * c, the ray's height there is z + (c.z - z)
+    // (W - u) / (C - u), which is at least H for u <= ((c.z - z) W - (H -
+    // z) C) / (c.z - H); the lower of the two surface planes' bounds.
+    const double w_out = half[a] + f.optics->glass_thickness_m;
+    for (const double side : {-1.0, 1.0}) {
+      const double cc = side * c[a];
+      if (!(cc > w_out)) continue;
+      double u_max = std::numeric_limits<double>::infinity();
+      for (const double z : {z_lo, z_hi}) {
+        u_max = std::min(u_max, ((c.z - z) * w_out - (t.wall_height - z) * cc) /
+                                    (c.z - t.wall_height));
+      }
+      u_max -= 0.001;
+      if (side > 0)
+        hi[a] = std::min(hi[a], u_max);
+      else
+        lo[a] = std::max(lo[a], -u_max);
+    }
+    if (!(lo[a] < hi[a])) return {};
+  }
+  // The box's four corners on each surface plane, on screen.
+  std::vector<glm::dvec2> on_screen;
+  for (const double z : {z_lo, z_hi}) {
+    for (int i = 0; i < 4; ++i) {
+      const glm::dvec4 clip =
+          f.clip_from_tank *
+          glm::dvec4(i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], z, 1.0);
+      if (!(clip.w > 1e-6)) return {};
+      on_screen.push_back(WindowFromClip(clip, f.k->width, f.k->height));
+    }
+  }
+  // Each plane's quadrilateral (convex, its corners a perspective image of
+  // a rectangle's): the rectangle between its two leftmost and two
+  // rightmost corners' inner x and its two lowest and two highest corners'
+  // inner y; both planes' overlap.
+  double x0 = -1e300, x1 = 1e300, y0 = -1e300, y1 = 1e300;
+  for (int plane = 0; plane < 2; ++plane) {
+    double xs[4], ys[4];
+    for (int i = 0; i < 4; ++i) {
+      xs[i] = on_screen[plane * 4 + i].x;
+      ys[i] = on_screen[plane * 4 + i].y;
+    }
+    std::sort(xs, xs + 4);
+    std::sort(ys, ys + 4);
+    x0 = std::max(x0, xs[1]);
+    x1 = std::min(x1, xs[2]);
+    y0 = std::max(y0, ys[1]);
+    y1 = std::min(y1, ys[2]);
+  }
+  // The overlap of two convex regions is convex: a rectangle lies in it if
+  // its corners do (each corner's ray on both planes inside the box). For a
+  // view across a corner of the tank the quadrilaterals are diamonds, and
+  // the rectangle above pokes out of them: it is shrunk about its centre,
+  // a tenth at a time, until it fits.
+  auto fits = [&](int x0i, int y0i, int x1i, int y1i) {
+    for (int i = 0; i < 4; ++i) {
+      const glm::dvec2 w(i & 1 ? x1i : x0i, i & 2 ? y1i : y0i);
+      for (const double z : {z_lo, z_hi}) {
+        glm::dvec3 p;
+        if (!OnPlane(f, w, z, &p)) return false;
+        if (p.x < lo[0] || p.x > hi[0] || p.y < lo[1] || p.y > hi[1])
+          return false;
+      }
+    }
+    return true;
+  };
+  const glm::dvec2 centre(0.5 * (x0 + x1), 0.5 * (y0 + y1));
+  const glm::dvec2 half_size(0.5 * (x1 - x0), 0.5 * (y1 - y0));
+  for (int step = 0; step < 10; ++step) {
+    const glm::dvec2 a = centre - half_size * (1.0 - 0.1 * step);
+    const glm::dvec2 b = centre + half_size * (1.0 - 0.1 * step);
+    // Inward to whole 4 x 4 blocks, inside the window.
+    const int ix0 = (std::max(0, static_cast<int>(std::ceil(a.x))) + 3) & ~3;
+    const int iy0 = (std::max(0, static_cast<int>(std::ceil(a.y))) + 3) & ~3;
+    const int ix1 =
+        std::min(f.k->width, static_cast<int>(std::floor(b.x))) & ~3;
+    const int iy1 =
+        std::min(f.k->height, static_cast<int>(std::floor(b.y))) & ~3;
+    if (ix1 <= ix0 || iy1 <= iy0) return {};
+    if (fits(ix0, iy0, ix1, iy1)) return {ix0, iy0, ix1 - ix0, iy1 - iy0};
+  }
+  return {};
 }
 
 glm::ivec4 PlateLookupRect(const FrameState& f,

@@ -59,6 +59,20 @@ glm::ivec4 MirroredObjectsRect(const FrameState& f);
 // in `image_window` (x, y, w, h: image pixels, the occluder mask's window).
 glm::ivec4 PlateLookupRect(const FrameState& f, const glm::ivec4& image_window);
 
+// A rectangle inside which no pixel's shading involves a wall (unlike the
+// others, it bounds where an effect is absent): every surface point seen
+// there has a view ray that reaches it without crossing a wall's glass on
+// the camera's side (over the wall's top instead), and a refracted ray that
+// meets the floor before any wall, for any normal within this frame's
+// steepest slope. Those are the surface points farther than the refracted
+// ray's horizontal reach over the deepest water from every wall, and beyond
+// the line where a camera-side wall's top hides the surface; the rectangle
+// is the largest one aligned with the window inside that box's image on
+// both surface planes (checked at its corners, the region being convex),
+// shrunk to llvmpipe's 4 x 4 blocks. Empty when none can be made (the
+// camera under a wall's top, rays near the horizontal, a box off screen).
+glm::ivec4 WallFreeRect(const FrameState& f);
+
 // The overlap of two rectangles (empty if none).
 glm::ivec4 IntersectRect(const glm::ivec4& a, const glm::ivec4& b);
 

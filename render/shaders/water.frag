@@ -17,7 +17,7 @@
 // shader 2-3 times per pixel along the many triangle edges.
 //
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
-// REFRACTION_CUBIC, REAL_PEN, REAL_PLATE, MIRROR, FLAT_WATER): llvmpipe runs both sides of a
+// REFRACTION_CUBIC, REAL_PEN, REAL_PLATE, MIRROR, WALL_FREE, FLAT_WATER): llvmpipe runs both sides of a
 // branch (an `if` whose condition is false on every pixel still costs its
 // body), so disabled effects must not be in the shader at all. The pen, the
 // plate and the mirror are left out outside their regions of the screen
@@ -194,7 +194,13 @@ void main() {
   // two fixed-point steps onto the surface z = level + h(x, y). Height and
   // slope are precomputed per cell: (h, dh/dx, dh/dy).
   vec3 v = normalize(v_ray);
+#ifdef WALL_FREE
+  // No wall's glass between the camera and the surface here, and no wall
+  // in the refracted ray's way (water_regions.h, WallFreeRect).
+  vec3 c = u_cam_in_tank;
+#else
   vec3 c = u_cam_in_tank + GlassWallShift(u_cam_in_tank, v);
+#endif
   float dz = min(v.z, -1e-4);
   float s = (u_tank.w - c.z) / dz;
   vec3 hs = HeightAt(c.xy + s * v.xy);
@@ -212,6 +218,12 @@ void main() {
 #else
   vec3 t = v;
 #endif
+#ifdef WALL_FREE
+  float th = t.z < -1e-5 ? -p.z / t.z : 1e3;
+  vec3 f = p + t * th;
+  vec3 lookup = f;
+  bool floor_seen = true;
+#else
   vec2 half_size = 0.5 * u_tank.xy;
   float tf = t.z < -1e-5 ? -p.z / t.z : 1e3;
   float tx = abs(t.x) > 1e-6 ? (sign(t.x) * half_size.x - p.x) / t.x : 1e3;
@@ -249,6 +261,7 @@ void main() {
   bool floor_seen = on_floor || (mirrored && !under_glass);
   th += floor_seen && mirrored ? tf2 : 0.0;
   f = floor_seen ? lookup : f;
+#endif
 #ifdef REAL_PEN
   // The submerged shaft in the way: seen as the video shows the same line
   // of the cylinder 4 mm above the surface (one fetch for either: the
@@ -318,6 +331,9 @@ void main() {
   vec3 under =
       mix(video * (floor_light + returned * u_floor_around), video, obstacle) *
       u_inv_n2;
+#ifdef WALL_FREE
+  vec3 below = under;
+#else
   // Out through a wall: the board beyond it (the video) or the sky, through
   // the glass; the board under the glass, lit through it (optics.h,
   // under_glass: per wall, from the basis that pass_water.cc makes of it).
@@ -338,11 +354,19 @@ void main() {
   // under the glass and beside it are one sheet).
   float z_wall = p.z + t.z * tw;
   float band_top = glass_path * max(-tg.z, 0.0);
-  float z_step = max(fwidth(z_wall), 1e-7);
+  // The step between neighbouring pixels; capped at the glass's
+  // thickness, the band's scale: where the rays of neighbouring pixels meet
+  // the wall's plane farther apart than that (a steep ripple, or a ray
+  // nearly vertical whose wall lies metres away along it), the pixel does
+  // not straddle the band's edge, and fwidth's huge step would spread the
+  // band over the open floor (a quarter of the board under the glass mixed
+  // into pixels far from any wall).
+  float z_step = clamp(fwidth(z_wall), 1e-7, u_glass_d);
   float band = clamp(0.5 + z_wall / z_step, 0.0, 1.0) *
                clamp(0.5 + (band_top - z_wall) / z_step, 0.0, 1.0);
   band *= float(dot(out_dir, out_dir) < 0.5 && !pen_hit) * (1.0 - obstacle);
   below = band > 0.0 ? mix(under, video * board_under, band) : below;
+#endif
   vec3 transmit = exp(-u_sigma * th);
   vec3 color = below * transmit + u_scatter * (1.0 - transmit);
 

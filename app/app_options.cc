@@ -35,7 +35,7 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_option("--refraction-filter", args->refraction_filter,
                   "How the water reads the video where refracted rays land: "
                   "cubic (Catmull-Rom, keeps the magnified floor sharp; the "
-                  "default) or linear (one bilinear fetch, about 9% less "
+                  "default) or linear (one bilinear fetch, about 7% less "
                   "main-pass work)")
       ->capture_default_str();
   sub->add_flag("--no-reflection", args->no_reflection, "Disable reflection");

@@ -354,14 +354,15 @@ void main() {
   // under the glass and beside it are one sheet).
   float z_wall = p.z + t.z * tw;
   float band_top = glass_path * max(-tg.z, 0.0);
-  // The step between neighbouring pixels; capped at the glass's
-  // thickness, the band's scale: where the rays of neighbouring pixels meet
-  // the wall's plane farther apart than that (a steep ripple, or a ray
-  // nearly vertical whose wall lies metres away along it), the pixel does
-  // not straddle the band's edge, and fwidth's huge step would spread the
-  // band over the open floor (a quarter of the board under the glass mixed
-  // into pixels far from any wall).
-  float z_step = clamp(fwidth(z_wall), 1e-7, u_glass_d);
+  // The step between neighbouring pixels, capped at a centimetre: where
+  // the rays of neighbouring pixels meet the wall's plane farther apart
+  // than that (a steep ripple; a ray nearly vertical whose wall lies metres
+  // away along it; the nearest wall switching between x and y), the pixel
+  // does not straddle the band's edge, and fwidth's huge step would spread
+  // the band over the open floor (a quarter of the board under the glass
+  // mixed into pixels far from any wall). A wall seen through the water
+  // climbs a few millimetres a pixel.
+  float z_step = clamp(fwidth(z_wall), 1e-7, 0.01);
   float band = clamp(0.5 + z_wall / z_step, 0.0, 1.0) *
                clamp(0.5 + (band_top - z_wall) / z_step, 0.0, 1.0);
   band *= float(dot(out_dir, out_dir) < 0.5 && !pen_hit) * (1.0 - obstacle);

@@ -17,11 +17,11 @@
 // shader 2-3 times per pixel along the many triangle edges.
 //
 // Compiled in variants (#define SHADOWS, CAUSTICS, REFLECTION, REFRACTION,
-// REFRACTION_CUBIC, REAL_PEN, REAL_PLATE, MIRROR, WALL_FREE, FLAT_WATER): llvmpipe runs both sides of a
-// branch (an `if` whose condition is false on every pixel still costs its
-// body), so disabled effects must not be in the shader at all. The pen, the
-// plate and the mirror are left out outside their regions of the screen
-// (water_regions.h).
+// REFRACTION_CUBIC, REAL_PEN, REAL_PLATE, MIRROR, WALL_FREE, FLAT_WATER):
+// llvmpipe runs both sides of a branch (an `if` whose condition is false on
+// every pixel still costs its body), so disabled effects must not be in the
+// shader at all. The pen, the plate and the mirror are left out outside
+// their regions of the screen, the walls inside theirs (water_regions.h).
 //
 // The real scene inside the water (with REFRACTION): with REAL_PEN, a
 // refracted ray that meets the submerged part of the real pen's shaft sees
@@ -122,17 +122,6 @@ vec3 GlassWallShift(vec3 c, vec3 v) {
   return shift;
 }
 
-// The reflected environment towards r: the fold (r's vanishing point in
-// the blurred frame: the surroundings as seen from far away) or, with
-// ENV_CUBE, the cube map by direction (common.glsl's Environment). A ray
-// reflected upwards never comes down to the table's plane, so what it meets
-// lies above that plane; read at its vanishing point the frame shows what
-// lies along r far away, above the plane's horizon, and never the table
-// near the tank, which a point at a finite distance reads wherever the view
-// is grazing. The frame shows the direction only if it lies in front of the
-// camera and inside the image; elsewhere the ray sees what no frame shows,
-// the sky overhead, faded in over the image's outer FOLD_FADE (a share of
-// its width / height).
 // The scene copy (video and obstacles) at uv, where a refracted ray lands.
 // With REFRACTION_CUBIC by Catmull-Rom interpolation (the floor seen through
 // the water is magnified, so the lookups fall between the frame's pixels,
@@ -169,6 +158,17 @@ vec4 SceneAt(vec2 uv) {
 #endif
 }
 
+// The reflected environment towards r: the fold (r's vanishing point in
+// the blurred frame: the surroundings as seen from far away) or, with
+// ENV_CUBE, the cube map by direction (common.glsl's Environment). A ray
+// reflected upwards never comes down to the table's plane, so what it meets
+// lies above that plane; read at its vanishing point the frame shows what
+// lies along r far away, above the plane's horizon, and never the table
+// near the tank, which a point at a finite distance reads wherever the view
+// is grazing. The frame shows the direction only if it lies in front of the
+// camera and inside the image; elsewhere the ray sees what no frame shows,
+// the sky overhead, faded in over the image's outer FOLD_FADE (a share of
+// its width / height).
 #define FOLD_FADE 0.08
 vec3 EnvLookup(vec3 r) {
 #ifdef ENV_CUBE

@@ -467,7 +467,7 @@ TEST(EffectsTest, MirrorRegionHoldsEveryLookupIntoTheMirror) {
 }
 
 // Inside the wall-free rectangle no pixel's rays meet a wall: for the
-// ripple (steepened 1.5x) seen from the front, at an angle and from above,
+// test scene's ripple seen from the front, at an angle and from above,
 // every pixel there sees a surface point whose view ray passes over the
 // camera-side walls' glass (not through it, under their tops) and whose
 // refracted ray meets the floor inside the tank; and the rectangle holds a

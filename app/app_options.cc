@@ -20,10 +20,14 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--no-caustics", args->no_caustics,
                 "Disable the caustics pass");
   sub->add_flag("--no-shadows", args->no_shadows, "Disable the shadow pass");
-  sub->add_flag("--tank-shadow", args->tank_shadow,
-                "Draw the tank's shadow on the board around it (the water "
-                "column's shadow, the light its glass sends down, the sky it "
-                "hides; about 2 ms more a frame at 1280x720)");
+  sub->add_option("--tank-shadow", args->tank_shadow,
+                  "The tank's shadow on the board around it (the water "
+                  "column's shadow, the light its glass sends down, the sky "
+                  "it hides): auto (on for frames up to 640 columns), on or "
+                  "off; a bare --tank-shadow is on. At 1280x720 it costs "
+                  "about 5 ms a frame")
+      ->expected(0, 1)
+      ->default_str("auto");
   sub->add_option("--shadows", args->shadows,
                   "Shadow map filter: pcf (4 bilinear taps; the default), "
                   "gauss (Gaussian-weighted 3x3 taps, a smooth semi-soft "
@@ -93,6 +97,19 @@ void AddPipelineOptions(CLI::App* sub, PipelineArgs* args) {
   sub->add_flag("--full-frame", args->full_frame,
                 "Draw every pixel through GL (by default only the tank's "
                 "part of the frame is; the rest is the video as it came)");
+}
+
+bool ParseTankShadow(const std::string& text, bool* by_resolution, bool* on) {
+  if (text == "auto") {
+    *by_resolution = true;
+    return true;
+  }
+  if (text == "on" || text.empty() || text == "off") {
+    *by_resolution = false;
+    *on = text != "off";
+    return true;
+  }
+  return false;
 }
 
 bool ParseWaterColumns(const std::string& text, int* columns) {
@@ -185,7 +202,12 @@ bool FinishPipelineOptions(PipelineArgs* args, const std::string& default_gl,
   o.window = *backend == render::Backend::kGlfw;
   o.effects.caustics = !args->no_caustics;
   o.effects.shadows = !args->no_shadows;
-  o.effects.tank_shadow = args->tank_shadow;
+  if (!ParseTankShadow(args->tank_shadow, &o.tank_shadow_by_resolution,
+                       &o.effects.tank_shadow)) {
+    if (error)
+      *error = "--tank-shadow '" + args->tank_shadow + "': use auto, on or off";
+    return false;
+  }
   o.effects.reflection = !args->no_reflection;
   o.effects.refraction = !args->no_refraction;
   o.occluders = !args->no_occluders;

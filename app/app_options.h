@@ -20,8 +20,10 @@ struct PipelineArgs {
   std::string gl;  // empty: the command's default
   PipelineOptions options;
   WaterArgs water;
-  bool no_caustics = false, no_shadows = false, tank_shadow = false,
-       no_reflection = false, no_refraction = false;
+  bool no_caustics = false, no_shadows = false, no_reflection = false,
+       no_refraction = false;
+  // --tank-shadow auto | on | off (a bare --tank-shadow: on)
+  std::string tank_shadow = "auto";
   // Optics (render/optics.h); NaN: the look's default.
   std::string water_look = "clear";
   double ambient = std::nan("");         // sky's share of the light, [0, 1]
@@ -44,6 +46,11 @@ struct PipelineArgs {
   std::string refraction_filter = "cubic";    // --refraction-filter
   SmoothingArgs smoothing;  // --smoothing and the filters' cut-offs
 };
+
+// --tank-shadow: auto (the camera's width decides, render::
+// TankShadowByDefault), on (also given bare) or off; false if `text` is
+// none of these.
+bool ParseTankShadow(const std::string& text, bool* by_resolution, bool* on);
 
 // --water-columns: auto (render::kWaterColumnsAuto), full or 0 (every
 // pixel), or 64..16384 (RendererOptions::water_shading_columns); false if

@@ -53,6 +53,9 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
   p->camera_ = camera;
   p->rig_ = rig;
   p->options_ = options;
+  if (options.tank_shadow_by_resolution)
+    p->options_.effects.tank_shadow = render::TankShadowByDefault(camera.width);
+  const bool tank_shadow = p->options_.effects.tank_shadow;
   // The detector decodes the frames as the camera file says they encode
   // light (its edge fit and the dense refinement work in linear light).
   tracking::TrackerOptions tracker_options = options.tracker;
@@ -116,7 +119,7 @@ std::unique_ptr<Pipeline> Pipeline::Create(const tracking::Camera& camera,
     // Hands over the board around the tank too, where the renderer draws
     // the tank's shadow.
     tracking::CleanPlateOptions plate_options = options.clean_plate;
-    if (options.effects.tank_shadow) {
+    if (tank_shadow) {
       plate_options.surround_m =
           render::TankShadowReach(s.tank, options.renderer.optics);
       plate_options.margin_m =

@@ -66,6 +66,9 @@ struct PipelineOptions {
   // The detector's quad decimation grows with the frame's height
   // (QuadDecimateForHeight) above the tracker's own setting.
   bool decimate_by_resolution = true;
+  // The tank's shadow on the board follows the camera's width
+  // (render::TankShadowByDefault) instead of effects.tank_shadow.
+  bool tank_shadow_by_resolution = true;
 
   bool IsValid(std::string* error) const;
 };

@@ -56,6 +56,9 @@ struct RenderBenchArgs {
   double ambient = 0.3;
   // --water-columns auto | full | N (RendererOptions::water_shading_columns)
   std::string water_columns = "auto";
+  // --tank-shadow auto | on | off: the real-time renderer's, as the pipeline
+  // resolves it (auto: by the frame's width).
+  std::string tank_shadow = "auto";
 };
 
 // The effects whose contribution is measured, as `Effects` members.
@@ -157,10 +160,9 @@ void RealObjects(const tracking::Rig& rig, const RenderBenchScene& s,
   const reference::ReferenceScene& rs = s.scene;
   const render::TankGeometry& t = rs.scene.tank;
   const double top = std::max(t.wall_height, t.water_level + 0.01f);
-  // Its search widened as the pipeline widens it with --tank-shadow: hands
-  // over the board around the tank too (the default renders do not draw
-  // there; the water's FLIP on `hand` is the same to 4 decimals either
-  // way).
+  // Its search widened as the pipeline widens it with the tank's shadow:
+  // hands over the board around the tank too (always: the run with the
+  // effect toggled uses the same mask).
   tracking::CleanPlateOptions po;
   po.surround_m = render::TankShadowReach(t, render::WaterOptics());
   po.margin_m = std::max(po.margin_m, po.surround_m);
@@ -324,6 +326,15 @@ int RunBenchRender(const RenderBenchArgs& args) {
     return Fail(kExitBadInput, "--refraction-filter '" +
                                    args.refraction_filter +
                                    "': use cubic or linear");
+  bool tank_shadow_by_size = true, tank_shadow = false;
+  if (!ParseTankShadow(args.tank_shadow, &tank_shadow_by_size, &tank_shadow))
+    return Fail(kExitBadInput, "--tank-shadow '" + args.tank_shadow +
+                                   "': use auto, on or off");
+  if (tank_shadow_by_size)
+    tank_shadow = render::TankShadowByDefault(size.width);
+  // The effects as this run draws them; each is toggled against these.
+  render::Effects defaults;
+  defaults.tank_shadow = tank_shadow;
   render::ReflectionMap reflection_map = render::ReflectionMap::kFold;
   const bool both_maps = args.reflection == "both";
   if (!both_maps &&
@@ -384,8 +395,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
   if (!csv) return Fail(kExitBadInput, "cannot write '" + csv_path + "'");
   csv << "scene,water_pixels,flip,flip_open_water";
   for (const EffectSwitch& e : kEffects) {
-    csv << (render::Effects().*(e.flag) ? ",flip_no_" : ",flip_with_")
-        << e.name;
+    csv << (defaults.*(e.flag) ? ",flip_no_" : ",flip_with_") << e.name;
   }
   csv << ",reference_noise,flip_pen,flip_hand,flip_pen_without_plate,"
          "flip_hand_without_mask,flip_shadow,flip_reflection,flip_board,"
@@ -406,7 +416,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
       "main", "caust", "shadow", "envmap", "ref_s", "gain", "FLIP", "res.");
   std::printf("%-8s %7s %6s %6s |", "", "", "", "water");
   for (int i = 0; i < kNumEffects; ++i)
-    std::printf(" %6s", render::Effects().*(kEffects[i].flag) ? "off" : "on");
+    std::printf(" %6s", defaults.*(kEffects[i].flag) ? "off" : "on");
   std::printf(
       " | %6s | %6s %6s %6s %6s %6s %6s | %6s %6s | %6s %6s %6s %6s | %6s | "
       "%6s %6s %6s\n",
@@ -452,6 +462,7 @@ int RunBenchRender(const RenderBenchArgs& args) {
     auto renderer = render::Renderer::TryCreate(ctx.get(), k, ro, &error);
     if (!renderer) return Fail(kExitRuntime, error);
     render::SceneInputs in = rs.scene;
+    in.effects.tank_shadow = defaults.tank_shadow;
     in.video = {video.data, video.cols, video.rows,
                 static_cast<int>(video.step)};
     // With a pen or hands: the clean plate and occluder mask, as the
@@ -779,6 +790,11 @@ CommandAction SetupBenchRender(CLI::App* sub) {
                   "this many columns: auto, full or N >= 64")
       ->capture_default_str()
       ->check(WaterColumnsValidator());
+  sub->add_option("--tank-shadow", args->tank_shadow,
+                  "The real-time renderer's shadow of the tank on the board "
+                  "around it: auto (on up to 640 columns, as the pipeline), "
+                  "on or off (the reference always has it)")
+      ->capture_default_str();
   sub->add_option("--ambient", args->ambient,
                   "The sky's share of the board's light in both renderers, "
                   "0..1 (the light's disc has the rest)")

@@ -129,6 +129,12 @@ struct EnvMapOptions {
 // RendererOptions::water_shading_columns: chosen from the output's width.
 inline constexpr int kWaterColumnsAuto = -1;
 
+// Whether the tank's shadow on the board (Effects::tank_shadow) is on by
+// default for an output `width` pixels wide: up to 640 columns, where the
+// water is shaded at every pixel and a frame leaves room for it (docs/
+// render.md, "The tank's shadow by default").
+inline bool TankShadowByDefault(int width) { return width <= 640; }
+
 struct RendererOptions {
   // Quads per side of the water mesh. It only lays the water's depth and
   // marks its pixels (the shading finds the surface per pixel), so only the

@@ -96,9 +96,10 @@ struct Effects {
   bool caustics = true;      // Nishita-Nakamae caustics map
   bool pen_occludes = true;  // pen phantom in depth
   // The tank's shadow and the sky it hides on the video's board around it
-  // (pass_board_light.h). Off by default: it costs about 2 ms a frame at
-  // 1280x720 (the board around the tank drawn and the clean plate's
-  // search twice the size), more than the webcam budget leaves.
+  // (pass_board_light.h). Off here; the commands turn it on for frames up
+  // to 640 columns (TankShadowByDefault, renderer.h): above, the board
+  // around the tank drawn and the clean plate's search twice the size cost
+  // more than the webcam budget leaves.
   bool tank_shadow = false;
   // The real pen and occluders in the water's refraction: the submerged
   // shaft seen bent, floor points the video does not show read from the

@@ -200,7 +200,8 @@ TEST(CliTest, OpticsOptionsAreChecked) {
         std::string("--ambient -0.1"), std::string("--light-size 0"),
         std::string("--light-size 90"), std::string("--shadows blur"),
         std::string("--shadow-sigma 9"),
-        std::string("--refraction-filter sharp")}) {
+        std::string("--refraction-filter sharp"),
+        std::string("--tank-shadow maybe")}) {
     const auto r =
         RunRipple("demo --frames 10 --idle-frames 1 --out " + dir + " " + bad);
     EXPECT_EQ(r.exit_code, 2) << bad << "\n" << r.output;
@@ -353,6 +354,10 @@ TEST(CliTest, BenchRenderComparesAgainstTheReference) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_THAT(r.output, HasSubstr("--refraction-filter 'sharp'"));
   EXPECT_FALSE(std::filesystem::exists(dir + "/bad4"));
+  r = RunRipple("bench render --tank-shadow maybe --out " + dir + "/bad5");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("--tank-shadow 'maybe'"));
+  EXPECT_FALSE(std::filesystem::exists(dir + "/bad5"));
 }
 
 // `ripple sun`: NREL SPA's worked example (azimuth 194.340, true elevation

@@ -4,6 +4,9 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include <optional>
+#include <string>
+
 #include "app/app_loop.h"
 #include "app/app_synth_source.h"
 #include "tests/shipped_data.h"
@@ -136,6 +139,31 @@ TEST_F(FrameLoopTest, SourceFailureIsReportedAfterTheFramesBeforeIt) {
   EXPECT_EQ(summary.frames, 2);
   EXPECT_EQ(summary.source_error, "scripted failure");
   EXPECT_EQ(sink.closed, 1);
+}
+
+// The tank's shadow on the board follows the camera's width unless the
+// options set it: on up to 640 columns, off above (where it would cost the
+// frame more than its budget leaves), on at any width when asked for.
+TEST(PipelineOptionsTest, TheTanksShadowFollowsTheCamerasWidth) {
+  const tracking::Rig rig = test_data::DefaultRig();
+  auto shadow_at = [&](int width, int height, bool by_resolution,
+                       bool on) -> std::optional<bool> {
+    PipelineOptions options;
+    options.backend = render::Backend::kEgl;
+    options.tank_shadow_by_resolution = by_resolution;
+    options.effects.tank_shadow = on;
+    std::string error;
+    auto p = Pipeline::Create(test_data::DefaultCamera().Scaled(width, height),
+                              rig, options, &error);
+    if (!p) return std::nullopt;
+    return p->effects().tank_shadow;
+  };
+  const auto vga = shadow_at(640, 480, true, false);
+  if (!vga) GTEST_SKIP() << "no headless GL context";
+  EXPECT_TRUE(*vga);
+  EXPECT_EQ(shadow_at(1280, 720, true, true), std::optional<bool>(false));
+  EXPECT_EQ(shadow_at(1280, 720, false, true), std::optional<bool>(true));
+  EXPECT_EQ(shadow_at(640, 480, false, false), std::optional<bool>(false));
 }
 
 // Tracking frame n + 1 and advancing its water beside frame n's render

@@ -312,7 +312,8 @@ BENCHMARK(BM_WaterRegions)
 // read back into a BGR image) at each size, with the same field of view,
 // the water shaded on `cols` columns (RendererOptions::
 // water_shading_columns; -1: automatic, 0: at the output's pixels). Effects as
-// in kFullChanging (water and pen change every frame).
+// in kFullChanging (water and pen change every frame), the tank's shadow on
+// the board around it as `tank_shadow` says.
 void BM_FrameAtSize(benchmark::State& state) {
   const int w = static_cast<int>(state.range(0));
   const int h = static_cast<int>(state.range(1));
@@ -321,6 +322,7 @@ void BM_FrameAtSize(benchmark::State& state) {
   auto f = Make(state, Backend::kEgl, false, options, w, h);
   if (!f) return;
   SceneInputs& in = f->scene.inputs;
+  in.effects.tank_shadow = state.range(3) != 0;
   std::vector<std::uint8_t> out(static_cast<size_t>(w) * h * 3);
   f->renderer->Render(in);
   f->renderer->ReadBgr(out.data());
@@ -347,13 +349,15 @@ void BM_FrameAtSize(benchmark::State& state) {
   state.counters["upload_ms"] = upload_ms / frames;
 }
 BENCHMARK(BM_FrameAtSize)
-    ->ArgNames({"w", "h", "cols"})
-    ->Args({640, 480, kWaterColumnsAuto})
-    ->Args({640, 480, 0})
-    ->Args({1280, 720, kWaterColumnsAuto})
-    ->Args({1280, 720, 0})
-    ->Args({1920, 1080, kWaterColumnsAuto})
-    ->Args({1920, 1080, 0})
+    ->ArgNames({"w", "h", "cols", "tank_shadow"})
+    ->Args({640, 480, kWaterColumnsAuto, 0})
+    ->Args({640, 480, kWaterColumnsAuto, 1})
+    ->Args({640, 480, 0, 0})
+    ->Args({1280, 720, kWaterColumnsAuto, 0})
+    ->Args({1280, 720, kWaterColumnsAuto, 1})
+    ->Args({1280, 720, 0, 0})
+    ->Args({1920, 1080, kWaterColumnsAuto, 0})
+    ->Args({1920, 1080, 0, 0})
     ->Unit(benchmark::kMillisecond)
     ->ComputeStatistics("min", MinOf)
     ->UseRealTime();

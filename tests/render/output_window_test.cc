@@ -103,6 +103,65 @@ TEST(OutputWindowTest, WindowHoldsTallObstacles) {
   EXPECT_EQ(cv::norm(a, RenderScene(whole.get(), s.inputs), cv::NORM_INF), 0.0);
 }
 
+// The tank's shadow on the board around it: the window grows to the board
+// the tank lights, and the image is the one that drawing every pixel gives;
+// with an occluder mask, the mask's pixels and the board beyond its window
+// keep the video exactly.
+TEST(OutputWindowTest, TheTanksShadowIsInTheWindow) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = DeskScene();
+  std::string error;
+  auto windowed = Renderer::TryCreate(ctx.get(), s.k, {}, &error);
+  ASSERT_NE(windowed, nullptr) << error;
+  RendererOptions whole_options;
+  whole_options.full_frame_output = true;
+  auto whole = Renderer::TryCreate(ctx.get(), s.k, whole_options, &error);
+  ASSERT_NE(whole, nullptr) << error;
+  // The same frames through both: the mirror takes the pen's colour from
+  // the last frame's scene copy.
+  RenderScene(windowed.get(), s.inputs);
+  RenderScene(whole.get(), s.inputs);
+  const glm::ivec4 without = windowed->timings().window;
+  s.inputs.effects.tank_shadow = true;
+  // An occluder mask: a hand's block over the board in front of the tank,
+  // looked for in a window that leaves out the tank's left end.
+  std::vector<std::uint8_t> mask(static_cast<size_t>(kW) * kH, 0);
+  const cv::Rect hand(250, 282, 80, 16);
+  for (int y = hand.y; y < hand.y + hand.height; ++y)
+    for (int x = hand.x; x < hand.x + hand.width; ++x) mask[y * kW + x] = 255;
+  const glm::ivec4 looked(220, 120, kW - 220, kH - 120);
+  const cv::Mat video = Video(s);
+  cv::Mat changed_unmasked;
+  for (const bool masked : {false, true}) {
+    s.inputs.occluders = {};
+    if (masked) s.inputs.occluders = {mask.data(), kW, kH, 0, looked};
+    const cv::Mat a = RenderScene(windowed.get(), s.inputs);
+    const glm::ivec4 window = windowed->timings().window;
+    const cv::Mat b = RenderScene(whole.get(), s.inputs);
+    EXPECT_GT(Area(window), Area(without)) << "masked " << masked;
+    EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0.0) << "masked " << masked;
+    // The board beyond the tank's box changes (the shadow and the light
+    // the glass sends down reach past it)...
+    const cv::Mat differs = a != video;
+    cv::Mat changed;
+    cv::reduce(differs.reshape(1, kH * kW), changed, 1, cv::REDUCE_MAX);
+    changed = changed.reshape(1, kH);
+    changed(cv::Rect(without.x, without.y, without.z, without.w)).setTo(0);
+    EXPECT_GT(cv::countNonZero(changed), 1000) << "masked " << masked;
+    if (!masked) {
+      changed_unmasked = changed;
+      continue;
+    }
+    // ...but not under the hand, nor where the mask was not looked for,
+    // which both hold board that changes without a mask.
+    const cv::Rect left(0, 0, looked.x, kH);
+    EXPECT_GT(cv::countNonZero(changed_unmasked(hand)), 300);
+    EXPECT_GT(cv::countNonZero(changed_unmasked(left)), 30);
+    EXPECT_EQ(cv::norm(a(hand), video(hand), cv::NORM_INF), 0.0);
+    EXPECT_EQ(cv::countNonZero(changed(left)), 0);
+  }
+}
+
 TEST(OutputWindowTest, VideoOnlyFrameIsTheVideo) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = DeskScene();

@@ -1,6 +1,7 @@
 // The frame loop on a scripted source: every frame reaches every sink in
 // order, sinks are asked about read-back and closed however the loop ends,
-// and a sink, a hook or the source can end it.
+// and a sink, a hook or the source can end it. Also the pipeline's options
+// that follow the camera's size.
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 

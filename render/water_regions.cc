@@ -299,14 +299,15 @@ glm::ivec4 WallFreeRect(const FrameState& f) {
     if (!(lo[a] < hi[a])) return {};
   }
   // The box's four corners on each surface plane, on screen.
-  std::vector<glm::dvec2> on_screen;
-  for (const double z : {z_lo, z_hi}) {
+  glm::dvec2 on_screen[8];
+  for (int plane = 0; plane < 2; ++plane) {
+    const double z = plane ? z_hi : z_lo;
     for (int i = 0; i < 4; ++i) {
       const glm::dvec4 clip =
           f.clip_from_tank *
           glm::dvec4(i & 1 ? hi[0] : lo[0], i & 2 ? hi[1] : lo[1], z, 1.0);
       if (!(clip.w > 1e-6)) return {};
-      on_screen.push_back(WindowFromClip(clip, f.k->width, f.k->height));
+      on_screen[plane * 4 + i] = WindowFromClip(clip, f.k->width, f.k->height);
     }
   }
   // Each plane's quadrilateral (convex, its corners a perspective image of

@@ -147,20 +147,21 @@ TEST_F(FrameLoopTest, SourceFailureIsReportedAfterTheFramesBeforeIt) {
 // frame more than its budget leaves), on at any width when asked for.
 TEST(PipelineOptionsTest, TheTanksShadowFollowsTheCamerasWidth) {
   const tracking::Rig rig = test_data::DefaultRig();
+  std::string error;
   auto shadow_at = [&](int width, int height, bool by_resolution,
                        bool on) -> std::optional<bool> {
     PipelineOptions options;
     options.backend = render::Backend::kEgl;
     options.tank_shadow_by_resolution = by_resolution;
     options.effects.tank_shadow = on;
-    std::string error;
     auto p = Pipeline::Create(test_data::DefaultCamera().Scaled(width, height),
                               rig, options, &error);
     if (!p) return std::nullopt;
     return p->effects().tank_shadow;
   };
+  // Whether a pipeline (a headless GL context) can be made at all.
   const auto vga = shadow_at(640, 480, true, false);
-  if (!vga) GTEST_SKIP() << "no headless GL context";
+  if (!vga) GTEST_SKIP() << "no headless GL context: " << error;
   EXPECT_TRUE(*vga);
   EXPECT_EQ(shadow_at(1280, 720, true, true), std::optional<bool>(false));
   EXPECT_EQ(shadow_at(1280, 720, false, true), std::optional<bool>(true));

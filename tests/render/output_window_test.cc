@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <memory>
 #include <opencv2/core.hpp>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "render/pixel_convert.h"
@@ -46,16 +48,29 @@ cv::Mat Video(const TestScene& s) {
       .clone();
 }
 
-TEST(OutputWindowTest, SameImageAsDrawingEveryPixel) {
-  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
-  TestScene s = DeskScene();
+// A renderer with the output window (the default) and one that draws every
+// pixel through GL (RendererOptions::full_frame_output), for the same
+// camera.
+struct WindowedAndWhole {
+  std::unique_ptr<Renderer> windowed, whole;
+};
+WindowedAndWhole MakeRenderers(Context* ctx, const Intrinsics& k) {
   RendererOptions whole_options;
   whole_options.full_frame_output = true;
   std::string error;
-  auto windowed = Renderer::TryCreate(ctx.get(), s.k, {}, &error);
-  ASSERT_NE(windowed, nullptr) << error;
-  auto whole = Renderer::TryCreate(ctx.get(), s.k, whole_options, &error);
-  ASSERT_NE(whole, nullptr) << error;
+  WindowedAndWhole r;
+  r.windowed = Renderer::TryCreate(ctx, k, {}, &error);
+  EXPECT_NE(r.windowed, nullptr) << error;
+  r.whole = Renderer::TryCreate(ctx, k, whole_options, &error);
+  EXPECT_NE(r.whole, nullptr) << error;
+  return r;
+}
+
+TEST(OutputWindowTest, SameImageAsDrawingEveryPixel) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  TestScene s = DeskScene();
+  const auto [windowed, whole] = MakeRenderers(ctx.get(), s.k);
+  ASSERT_TRUE(windowed && whole);
   // Two frames each: the second one's shadow and caustics are reused.
   for (int frame = 0; frame < 2; ++frame) {
     const cv::Mat a = RenderScene(windowed.get(), s.inputs);
@@ -84,13 +99,9 @@ TEST(OutputWindowTest, WindowHoldsTallObstacles) {
   TestScene s = DeskScene();
   // A pillar four times the walls' height rises above the tank's box.
   s.inputs.obstacles[0].size.z = 0.16f;
+  const auto [r, whole] = MakeRenderers(ctx.get(), s.k);
+  ASSERT_TRUE(r && whole);
   std::string error;
-  auto r = Renderer::TryCreate(ctx.get(), s.k, {}, &error);
-  ASSERT_NE(r, nullptr) << error;
-  RendererOptions whole_options;
-  whole_options.full_frame_output = true;
-  auto whole = Renderer::TryCreate(ctx.get(), s.k, whole_options, &error);
-  ASSERT_NE(whole, nullptr) << error;
   const cv::Mat a = RenderScene(r.get(), s.inputs);
   const glm::ivec4 tall = r->timings().window;
   // Grown upwards (top row first) beyond the tank's box.
@@ -110,13 +121,8 @@ TEST(OutputWindowTest, WindowHoldsTallObstacles) {
 TEST(OutputWindowTest, TheTanksShadowIsInTheWindow) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = DeskScene();
-  std::string error;
-  auto windowed = Renderer::TryCreate(ctx.get(), s.k, {}, &error);
-  ASSERT_NE(windowed, nullptr) << error;
-  RendererOptions whole_options;
-  whole_options.full_frame_output = true;
-  auto whole = Renderer::TryCreate(ctx.get(), s.k, whole_options, &error);
-  ASSERT_NE(whole, nullptr) << error;
+  const auto [windowed, whole] = MakeRenderers(ctx.get(), s.k);
+  ASSERT_TRUE(windowed && whole);
   // The same frames through both: the mirror takes the pen's colour from
   // the last frame's scene copy.
   RenderScene(windowed.get(), s.inputs);

@@ -110,15 +110,21 @@ void CommonUniforms::Resolve(const Program& p) {
   knee_ = p.Uniform("u_knee");
   ambient_ = p.Uniform("u_ambient");
   cube_from_tank_ = p.Uniform("u_cube_from_tank");
+  dist0_ = p.Uniform("u_dist0");
+  dist1_ = p.Uniform("u_dist1");
   glUseProgram(p.id());
   const struct {
     const char* name;
     int unit;
-  } samplers[] = {
-      {"u_height", kUnitHeight},         {"u_shadow", kUnitShadow},
-      {"u_caustics", kUnitCaustics},     {"u_scene", kUnitScene},
-      {"u_reflection", kUnitReflection}, {"u_receiver", kUnitReceiver},
-      {"u_env", kUnitEnvCube},           {"u_sky", kUnitSky}};
+  } samplers[] = {{"u_height", kUnitHeight},
+                  {"u_shadow", kUnitShadow},
+                  {"u_caustics", kUnitCaustics},
+                  {"u_scene", kUnitScene},
+                  {"u_reflection", kUnitReflection},
+                  {"u_receiver", kUnitReceiver},
+                  {"u_env", kUnitEnvCube},
+                  {"u_sky", kUnitSky},
+                  {"u_video", kUnitVideo}};
   for (const auto& s : samplers) glUniform1i(p.Uniform(s.name), s.unit);
 }
 
@@ -149,6 +155,10 @@ void CommonUniforms::Set(const Program& p, const FrameState& f,
   glUniform1f(knee_, f.optics->highlight_knee);
   glUniform1f(ambient_, f.optics->ambient_share);
   SetUniform(cube_from_tank_, f.cube_from_tank);
+  glUniform4f(dist0_, float(k.dist[0]), float(k.dist[1]), float(k.dist[2]),
+              float(k.dist[3]));
+  glUniform4f(dist1_, float(k.dist[4]), float(k.dist[5]), float(k.dist[6]),
+              float(k.dist[7]));
 }
 
 void SetUniform(GLint location, const glm::dmat4& m) {

@@ -180,7 +180,8 @@ class CommonUniforms {
         hf_extent_ = -1, hf_texel_ = -1, hf_scale_ = -1, hf_offset_ = -1,
         light_ = -1, light_refracted_ = -1, shadow_from_tank_ = -1,
         shadow_on_ = -1, shadow_texel_ = -1, shadow_bias_ = -1, srgb_out_ = -1,
-        knee_ = -1, ambient_ = -1, cube_from_tank_ = -1;
+        knee_ = -1, ambient_ = -1, cube_from_tank_ = -1, dist0_ = -1,
+        dist1_ = -1;
 };
 
 // The video's linear radiance (RGB; decoded when `srgb`) at the board point

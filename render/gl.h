@@ -98,6 +98,7 @@
   X(PFNGLUNIFORM2FPROC, glUniform2f)                             \
   X(PFNGLUNIFORM3FPROC, glUniform3f)                             \
   X(PFNGLUNIFORM4FPROC, glUniform4f)                             \
+  X(PFNGLUNIFORM4FVPROC, glUniform4fv)                           \
   X(PFNGLUNIFORMMATRIX3FVPROC, glUniformMatrix3fv)               \
   X(PFNGLUNIFORMMATRIX4FVPROC, glUniformMatrix4fv)               \
   X(PFNGLUNMAPBUFFERPROC, glUnmapBuffer)                         \
@@ -190,6 +191,7 @@ RIPPLE_GL_FUNCTIONS(RIPPLE_GL_DECLARE)
 #define glUniform2f ripple_glUniform2f
 #define glUniform3f ripple_glUniform3f
 #define glUniform4f ripple_glUniform4f
+#define glUniform4fv ripple_glUniform4fv
 #define glUniformMatrix3fv ripple_glUniformMatrix3fv
 #define glUniformMatrix4fv ripple_glUniformMatrix4fv
 #define glUnmapBuffer ripple_glUnmapBuffer

@@ -53,6 +53,8 @@ class VideoBackgroundPass {
   const std::vector<std::uint8_t>& thumbnail() const { return thumbnail_; }
   static constexpr int kThumbW = 32, kThumbH = 24;
   GLuint reflection_texture() const { return reflection_tex_.id(); }
+  // The camera's frame as uploaded (distorted; RGBA8, the video's encoding).
+  GLuint video_texture() const { return video_tex_.id(); }
 
  private:
   Program undistort_;

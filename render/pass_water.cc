@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <glm/gtc/type_ptr.hpp>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -54,6 +55,9 @@ bool WaterPass::BuildShading(Shading* s, const std::string& defines,
   s->pen_margin = p.Uniform("u_pen_margin");
   s->plate_map = p.Uniform("u_plate_map");
   s->plate_gain = p.Uniform("u_plate_gain");
+  s->obstacle_count = p.Uniform("u_obstacle_count");
+  s->obstacle_from_tank = p.Uniform("u_obstacle_from_tank");
+  s->obstacle_shape = p.Uniform("u_obstacle_shape");
   return true;
 }
 
@@ -398,6 +402,27 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform4f(s.plate_map, real.plate_map.x, real.plate_map.y, real.plate_map.z,
               real.plate_map.w);
   glUniform1f(s.plate_gain, real.plate_gain);
+  // More obstacles than the shader holds: none traced, the copy's colour
+  // stands wherever it shows one.
+  const std::vector<Obstacle>& obstacles = f.scene->obstacles;
+  const int n = obstacles.size() <= size_t{kMaxTracedObstacles}
+                    ? static_cast<int>(obstacles.size())
+                    : 0;
+  glm::mat4 from_tank[kMaxTracedObstacles];
+  glm::vec4 shape[kMaxTracedObstacles];
+  for (int i = 0; i < n; ++i) {
+    const Obstacle& o = obstacles[i];
+    from_tank[i] = glm::mat4(glm::inverse(o.tank_from_obstacle));
+    shape[i] = o.shape == Obstacle::Shape::kBox
+                   ? glm::vec4(0.5f * o.size.x, 0.5f * o.size.y, o.size.z, 0.f)
+                   : glm::vec4(o.size.x, o.size.x, o.size.z, 1.f);
+  }
+  glUniform1i(s.obstacle_count, n);
+  if (n > 0) {
+    glUniformMatrix4fv(s.obstacle_from_tank, n, GL_FALSE,
+                       glm::value_ptr(from_tank[0]));
+    glUniform4fv(s.obstacle_shape, n, glm::value_ptr(shape[0]));
+  }
 }
 
 void WaterPass::MarkCoarseWater(const FrameState& f) {

@@ -74,6 +74,8 @@ class WaterPass {
   // Texels of the floor-return map (optics.h) over the tank floor, and the
   // directions traced per texel; recomputed when the tank changes.
   static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 2048;
+  // Obstacles the refracted rays are traced against (water.frag's arrays).
+  static constexpr int kMaxTracedObstacles = 4;
 
  private:
   // Variant bits: one program per combination of these effects.
@@ -104,6 +106,8 @@ class WaterPass {
     // kRealPen, kRealPlate.
     GLint pen_tip = -1, pen_axis = -1, pen_length = -1, pen_radius = -1,
           pen_margin = -1, plate_map = -1, plate_gain = -1;
+    // The virtual obstacles the refracted rays are traced against.
+    GLint obstacle_count = -1, obstacle_from_tank = -1, obstacle_shape = -1;
   };
   bool BuildShading(Shading* s, const std::string& defines,
                     const Options& options, std::string* error);

@@ -323,6 +323,7 @@ void Renderer::Impl::BindFrameTextures() {
       {internal::kUnitCaustics, caustics.texture()},
       {internal::kUnitReflection, video.reflection_texture()},
       {internal::kUnitReceiver, shadow.receiver_texture()},
+      {internal::kUnitVideo, video.video_texture()},
   };
   for (const auto& b : bindings) {
     glActiveTexture(GL_TEXTURE0 + b.unit);

@@ -100,6 +100,25 @@ vec2 VideoUv(vec3 p_tank) {
   return (px + 0.5) / u_image_size;
 }
 
+// OpenCV's distortion model (u_dist0: k1 k2 p1 p2, u_dist1: k3 k4 k5 k6)
+// forwards: an ideal pinhole image's pixel -> the camera frame's, both with
+// OpenCV's centres (pixel (0, 0) at the first texel's centre).
+uniform vec4 u_dist0;
+uniform vec4 u_dist1;
+vec2 DistortedPixel(vec2 px) {
+  vec2 xy = (px - u_intr.zw) / u_intr.xy;
+  float r2 = dot(xy, xy);
+  float r4 = r2 * r2, r6 = r4 * r2;
+  float radial = (1.0 + u_dist0.x * r2 + u_dist0.y * r4 + u_dist1.x * r6) /
+                 (1.0 + u_dist1.y * r2 + u_dist1.z * r4 + u_dist1.w * r6);
+  float p1 = u_dist0.z, p2 = u_dist0.w;
+  vec2 d = vec2(xy.x * radial + 2.0 * p1 * xy.x * xy.y +
+                    p2 * (r2 + 2.0 * xy.x * xy.x),
+                xy.y * radial + p1 * (r2 + 2.0 * xy.y * xy.y) +
+                    2.0 * p2 * xy.x * xy.y);
+  return u_intr.xy * d + u_intr.zw;
+}
+
 // The shadow map's filter, a compile-time variant (RendererOptions::
 // shadow_filter; llvmpipe would run every branch). 1 = lit.
 //   default: percentage-closer filtering, 4 bilinear hardware-compared taps

@@ -62,6 +62,44 @@ uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
 uniform float u_mirror_depth;    // typical height of what it mirrors, metres
+// The virtual obstacles (pass_water.h, kMaxTracedObstacles), each in its own
+// frame: base centre at the origin, axis +z; shape = (half x, half y,
+// height, 0) for a box, (radius, radius, height, 1) for a cylinder.
+uniform int u_obstacle_count;
+uniform mat4 u_obstacle_from_tank[4];
+uniform vec4 u_obstacle_shape[4];
+uniform sampler2D u_video;  // the camera's own frame: no virtual object in it
+
+// Distance along o + s d (0 < s < s_max, d unit) to the nearest virtual
+// obstacle; s_max when it meets none.
+float ObstaclesHit(vec3 o, vec3 d, float s_max) {
+  float nearest = s_max;
+  for (int i = 0; i < u_obstacle_count; ++i) {
+    vec3 lo = (u_obstacle_from_tank[i] * vec4(o, 1.0)).xyz;
+    vec3 ld = mat3(u_obstacle_from_tank[i]) * d;
+    vec4 shape = u_obstacle_shape[i];
+    // The slab 0 <= z <= height, then the side: the box's x and y slabs or
+    // the cylinder's quadric; the ray is inside all of them over [in, out].
+    vec3 inv = 1.0 / (abs(ld) + 1e-9) * sign(ld + 1e-12);
+    vec2 z = (vec2(0.0, shape.z) - lo.z) * inv.z;
+    float in_s = max(min(z.x, z.y), 0.0), out_s = max(z.x, z.y);
+    if (shape.w > 0.5) {
+      float a = max(dot(ld.xy, ld.xy), 1e-12);
+      float b = dot(lo.xy, ld.xy);
+      float disc = b * b - a * (dot(lo.xy, lo.xy) - shape.x * shape.x);
+      float root = sqrt(max(disc, 0.0));
+      in_s = max(in_s, (-b - root) / a);
+      out_s = disc > 0.0 ? min(out_s, (-b + root) / a) : -1.0;
+    } else {
+      vec2 x0 = (-shape.xy - lo.xy) * inv.xy, x1 = (shape.xy - lo.xy) * inv.xy;
+      vec2 near = min(x0, x1), far = max(x0, x1);
+      in_s = max(in_s, max(near.x, near.y));
+      out_s = min(out_s, min(far.x, far.y));
+    }
+    nearest = in_s < out_s && in_s < nearest ? in_s : nearest;
+  }
+  return nearest;
+}
 
 #ifdef REAL_PEN
 uniform vec3 u_pen_tip;      // shaft axis: tip ...
@@ -122,7 +160,8 @@ vec3 GlassWallShift(vec3 c, vec3 v) {
   return shift;
 }
 
-// The scene copy (video and obstacles) at uv, where a refracted ray lands.
+// A frame of the output's size (the scene copy of video and obstacles, or
+// the camera's own frame) at uv, where a refracted ray lands.
 // With REFRACTION_CUBIC by Catmull-Rom interpolation (the floor seen through
 // the water is magnified, so the lookups fall between the frame's pixels,
 // where one bilinear fetch blurs a fine pattern): the weights of the
@@ -133,7 +172,7 @@ vec3 GlassWallShift(vec3 c, vec3 v) {
 // the negative lobes overshoot by up to 7% of the step for a pixel (a
 // halo that clamping to the fetches' range would take away with most of
 // the sharpness: the grating's response falls to 0.82); clamped to [0, 1].
-vec4 SceneAt(vec2 uv) {
+vec4 FrameAt(sampler2D frame, vec2 uv) {
 #ifdef REFRACTION_CUBIC
   vec2 q = uv * u_image_size;
   vec2 c1 = floor(q - 0.5) + 0.5;  // the texel centre left of / below q
@@ -146,15 +185,15 @@ vec4 SceneAt(vec2 uv) {
   vec2 p0 = (c1 - 1.0) / u_image_size;
   vec2 p3 = (c1 + 2.0) / u_image_size;
   vec2 p12 = (c1 + w2 / w12) / u_image_size;
-  vec4 sum = textureLod(u_scene, p12, 0.0) * (w12.x * w12.y) +
-             textureLod(u_scene, vec2(p12.x, p0.y), 0.0) * (w12.x * w0.y) +
-             textureLod(u_scene, vec2(p12.x, p3.y), 0.0) * (w12.x * w3.y) +
-             textureLod(u_scene, vec2(p0.x, p12.y), 0.0) * (w0.x * w12.y) +
-             textureLod(u_scene, vec2(p3.x, p12.y), 0.0) * (w3.x * w12.y);
+  vec4 sum = textureLod(frame, p12, 0.0) * (w12.x * w12.y) +
+             textureLod(frame, vec2(p12.x, p0.y), 0.0) * (w12.x * w0.y) +
+             textureLod(frame, vec2(p12.x, p3.y), 0.0) * (w12.x * w3.y) +
+             textureLod(frame, vec2(p0.x, p12.y), 0.0) * (w0.x * w12.y) +
+             textureLod(frame, vec2(p3.x, p12.y), 0.0) * (w3.x * w12.y);
   float weight = w12.x * (w0.y + w12.y + w3.y) + w12.y * (w0.x + w3.x);
   return clamp(sum / weight, 0.0, 1.0);
 #else
-  return textureLod(u_scene, uv, 0.0);
+  return textureLod(frame, uv, 0.0);
 #endif
 }
 
@@ -223,6 +262,9 @@ void main() {
   vec3 f = p + t * th;
   vec3 lookup = f;
   bool floor_seen = true;
+  // The ray's legs in the water: from the surface, and none after it.
+  float leg1 = th, leg2 = 0.0;
+  vec3 leg2_from = f, leg2_dir = t;
 #else
   vec2 half_size = 0.5 * u_tank.xy;
   float tf = t.z < -1e-5 ? -p.z / t.z : 1e3;
@@ -259,6 +301,10 @@ void main() {
                          : (mirrored ? (under_glass ? in_glass : f2 + t2 * tf2)
                                      : beyond);
   bool floor_seen = on_floor || (mirrored && !under_glass);
+  // The ray's legs in the water: from the surface to the floor or a wall,
+  // and from a wall's mirror to the floor.
+  float leg1 = th, leg2 = floor_seen && mirrored ? tf2 : 0.0;
+  vec3 leg2_from = f2, leg2_dir = t2;
   th += floor_seen && mirrored ? tf2 : 0.0;
   f = floor_seen ? lookup : f;
 #endif
@@ -276,7 +322,26 @@ void main() {
   const bool pen_hit = false;
 #endif
   vec2 lookup_uv = VideoUv(lookup);
-  vec4 seen = SceneAt(lookup_uv);
+  vec4 seen = FrameAt(u_scene, lookup_uv);
+  // A virtual obstacle in the copy where the ray lands may only hide that
+  // point from the camera, not stand in the ray's way (the copy is the
+  // camera's view, the ray runs from the surface). Traced against the
+  // obstacles: a ray that meets one takes the copy where it meets it (the
+  // face the camera sees there, else the copy as it was); one that passes
+  // reads the point in the camera's own frame, which holds no virtual
+  // object.
+  if (seen.a < 0.5 && u_obstacle_count > 0 && !pen_hit) {
+    float s1 = ObstaclesHit(p, t, leg1);
+    float s2 = leg2 > 0.0 ? ObstaclesHit(leg2_from, leg2_dir, leg2) : 0.0;
+    if (s1 < leg1 || s2 < leg2) {
+      vec3 hit = s1 < leg1 ? p + s1 * t : leg2_from + s2 * leg2_dir;
+      vec4 at_hit = textureLod(u_scene, VideoUv(hit), 0.0);
+      seen = at_hit.a < 0.5 ? at_hit : seen;
+    } else {
+      vec2 frame_px = DistortedPixel(lookup_uv * u_image_size - 0.5);
+      seen = vec4(FrameAt(u_video, (frame_px + 0.5) / u_image_size).rgb, 1.0);
+    }
+  }
   seen.rgb = DecodeVideo(seen.rgb);
 #ifdef REAL_PLATE
   // A board point (z = 0) the video does not show (the occluder mask: 1 an

@@ -280,7 +280,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
   for (int v = 0; v < kVariants; ++v) {
     if ((v & (kRealPen | kRealPlate)) && !(v & kRefraction)) continue;
     if ((v & kMirror) && !(v & kReflection)) continue;
-    if ((v & kWallFree) && !(v & kRefraction)) continue;
+    if ((v & (kWallFree | kObstacles)) && !(v & kRefraction)) continue;
     std::string defines;
     if (options.env_cube) defines += "#define ENV_CUBE 1\n";
     if (options.sky) defines += "#define SKY 1\n";
@@ -293,6 +293,7 @@ bool WaterPass::Create(const Options& options, std::string* error) {
     if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
     if (v & kMirror) defines += "#define MIRROR 1\n";
     if (v & kWallFree) defines += "#define WALL_FREE 1\n";
+    if (v & kObstacles) defines += "#define OBSTACLES 1\n";
     if (!BuildShading(&variants_[v], defines, options, error)) return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
@@ -402,12 +403,11 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform4f(s.plate_map, real.plate_map.x, real.plate_map.y, real.plate_map.z,
               real.plate_map.w);
   glUniform1f(s.plate_gain, real.plate_gain);
-  // More obstacles than the shader holds: none traced, the copy's colour
-  // stands wherever it shows one.
+  // Locations are -1 without kObstacles (Draw uses that variant for up to
+  // kMaxTracedObstacles).
   const std::vector<Obstacle>& obstacles = f.scene->obstacles;
-  const int n = obstacles.size() <= size_t{kMaxTracedObstacles}
-                    ? static_cast<int>(obstacles.size())
-                    : 0;
+  const int n =
+      static_cast<int>(std::min(obstacles.size(), size_t{kMaxTracedObstacles}));
   glm::mat4 from_tank[kMaxTracedObstacles];
   glm::vec4 shape[kMaxTracedObstacles];
   for (int i = 0; i < n; ++i) {
@@ -479,6 +479,10 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // The mirror holds something only with obstacles or the pen in view.
   const bool with_mirror = reflection && !fx.flat_water &&
                            (!scene.obstacles.empty() || scene.pen_visible);
+  // Obstacles to trace the refracted rays against: the shader holds a few.
+  const bool with_obstacles =
+      fx.refraction && have_video && !scene.obstacles.empty() &&
+      scene.obstacles.size() <= size_t{kMaxTracedObstacles};
   const int base = (fx.shadows ? kShadows : 0) | (fx.caustics ? kCaustics : 0) |
                    (reflection ? kReflection : 0) |
                    (fx.refraction ? kRefraction : 0);
@@ -522,8 +526,9 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
   // The pen, the plate and the mirror, each only inside its region, and the
   // walls only outside theirs (water_regions.h). The wall-free rectangle is
   // in the output's pixels: not on the coarse grid.
-  glm::ivec4 region[kRegions] = {rect, rect, rect, {}};
-  bool use[kRegions] = {with_pen, with_plate, with_mirror, false};
+  glm::ivec4 region[kRegions] = {rect, rect, rect, {}, rect};
+  bool use[kRegions] = {with_pen, with_plate, with_mirror, false,
+                        with_obstacles};
   if (options_.regions) {
     if (fx.refraction && !grid_.active()) {
       region[3] = WallFreeRect(f);
@@ -536,6 +541,7 @@ void WaterPass::Draw(const FrameState& f, bool have_video,
     }
     if (with_plate) region[1] = PlateLookupRect(f, real.mask_window);
     if (with_mirror) region[2] = MirrorLookupRect(f, MirroredObjectsRect(f));
+    if (with_obstacles) region[4] = ObstacleLookupRect(f);
   }
   if (!grid_.active() || rect.z <= 0 || rect.w <= 0) {
     glStencilFunc(GL_EQUAL, 1, 0xff);
@@ -582,7 +588,8 @@ void WaterPass::ShadeCells(const FrameState& f, const RealObjectsState& real,
   // scissored, by the program with just those effects. The cells do not
   // overlap: llvmpipe's stencil test of a block it then rejects costs about
   // a tenth of shading it.
-  const int bit[kRegions] = {kRealPen, kRealPlate, kMirror, kWallFree};
+  const int bit[kRegions] = {kRealPen, kRealPlate, kMirror, kWallFree,
+                             kObstacles};
   glm::ivec4 region[kRegions];
   std::copy(region_in, region_in + kRegions, region);
   std::vector<int> xs = {rect.x, rect.x + rect.z};

@@ -75,7 +75,7 @@ class WaterPass {
   // directions traced per texel; recomputed when the tank changes.
   static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 2048;
   // Obstacles the refracted rays are traced against (water.frag's arrays).
-  static constexpr int kMaxTracedObstacles = 4;
+  static constexpr int kMaxTracedObstacles = 1;
 
  private:
   // Variant bits: one program per combination of these effects.
@@ -94,7 +94,10 @@ class WaterPass {
     // ray's way (WallFreeRect in water_regions.h), so neither the glass's
     // shift nor the walls' paths are in the program.
     kWallFree = 128,
-    kVariants = 256,
+    // Only with kRefraction: refracted rays traced against the virtual
+    // obstacles where their lookups may land on one (ObstacleLookupRect).
+    kObstacles = 256,
+    kVariants = 512,
   };
   struct Shading {
     Program program;
@@ -116,10 +119,10 @@ class WaterPass {
                const RealObjectsState& real) const;
   // Shades the stencil-marked pixels of the bound target inside `rect`
   // (its pixels), cut into cells by the regions (`region[i]` used where
-  // `use[i]`: the real pen, the plate, the mirror, and the wall-free
-  // rectangle) each shaded by the variant `base` plus the variant bits of
-  // the regions holding it.
-  static constexpr int kRegions = 4;
+  // `use[i]`: the real pen, the plate, the mirror, the wall-free rectangle
+  // and the obstacles' lookups) each shaded by the variant `base` plus the
+  // variant bits of the regions holding it.
+  static constexpr int kRegions = 5;
   void ShadeCells(const FrameState& f, const RealObjectsState& real, int base,
                   const glm::ivec4& rect, const glm::ivec4 region[kRegions],
                   const bool use[kRegions]) const;

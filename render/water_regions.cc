@@ -385,4 +385,97 @@ glm::ivec4 PlateLookupRect(const FrameState& f,
   return SurfaceNear(f, q, (k + k_out) * depth + glass_shift + 0.001);
 }
 
+glm::ivec4 ObstacleLookupRect(const FrameState& f) {
+  const SceneInputs& scene = *f.scene;
+  if (scene.obstacles.empty()) return {0, 0, 0, 0};
+  // The board points an obstacle hides from the camera: its bounding box's
+  // corners carried along the camera's rays down to the board (z = 0). A
+  // camera no higher than a corner hides the board out to the horizon.
+  const glm::dvec3& eye = f.cam_in_tank;
+  glm::dvec2 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+  for (const Obstacle& o : scene.obstacles) {
+    glm::dvec3 corners[8];
+    ObstacleBoxCorners(o, corners);
+    for (const glm::dvec3& c : corners) {
+      if (!(eye.z > c.z + 1e-6)) return WholeWindow(f);
+      const double s = eye.z / (eye.z - std::max(c.z, 0.0));
+      const glm::dvec2 q =
+          glm::dvec2(eye) + (glm::dvec2(c) - glm::dvec2(eye)) * s;
+      lo = glm::min(lo, q);
+      hi = glm::max(hi, q);
+    }
+  }
+  // The lookup's filter reads a couple of pixels around it.
+  lo -= 0.003;
+  hi += 0.003;
+  double travel[4];
+  const double slope = SlopeMax(f);
+  const double k = RefractedReach(f, slope);
+  if (!RefractedTravel(f, slope, travel) || !std::isfinite(k))
+    return WholeWindow(f);
+  const TankGeometry& t = scene.tank;
+  const double depth = t.water_level + kWaveRange_m;
+  const double sin_g = std::min(f.optics->ior / f.optics->glass_ior, 0.999f);
+  const double glass_shift = 2.0 * f.optics->glass_thickness_m * sin_g /
+                             std::sqrt(1.0 - sin_g * sin_g);
+  // A refracted ray from surface point p lands at f = p + D, D.x within
+  // [-travel[0], travel[1]] * depth and D.y within [-travel[2], travel[3]]
+  // * depth: p lies in the hidden box moved back by D.
+  std::vector<glm::dvec3> q;
+  auto surface_box = [&](glm::dvec2 a, glm::dvec2 b) {
+    a -= glm::dvec2(travel[1], travel[3]) * depth + glass_shift;
+    b += glm::dvec2(travel[0], travel[2]) * depth + glass_shift;
+    for (int i = 0; i < 4; ++i)
+      q.emplace_back(i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, 0.0);
+  };
+  surface_box(lo, hi);
+  // A ray a side wall's glass mirrors lands as if it went on past the wall
+  // to the mirror image of its floor point: the hidden box's image across
+  // each wall it comes within reach of.
+  const glm::dvec2 half(0.5 * t.size_x, 0.5 * t.size_y);
+  for (int axis = 0; axis < 2; ++axis) {
+    if (hi[axis] > half[axis] - travel[2 * axis + 1] * depth - glass_shift) {
+      glm::dvec2 a = lo, b = hi;
+      a[axis] = 2.0 * half[axis] - hi[axis];
+      b[axis] = 2.0 * half[axis] - lo[axis];
+      surface_box(a, b);
+    }
+    if (lo[axis] < -half[axis] + travel[2 * axis] * depth + glass_shift) {
+      glm::dvec2 a = lo, b = hi;
+      a[axis] = -2.0 * half[axis] - hi[axis];
+      b[axis] = -2.0 * half[axis] - lo[axis];
+      surface_box(a, b);
+    }
+  }
+  // Out through a wall to the board beyond it: from surface points within
+  // the rays' travel towards that wall, spread along it by their travel
+  // there and, past the glass, by k_out per unit height (as
+  // PlateLookupRect bounds it).
+  const double out_z = std::min(1.0, f.optics->ior / std::sqrt(1.0 + k * k));
+  if (out_z < 0.1) return WholeWindow(f);
+  const double k_out = std::sqrt(1.0 - out_z * out_z) / out_z;
+  for (int axis = 0; axis < 2; ++axis) {
+    const int other = 1 - axis;
+    for (const double side : {-1.0, 1.0}) {
+      const double wall = side * half[axis];
+      if (side * (side > 0 ? hi[axis] : lo[axis]) <= half[axis]) continue;
+      const double toward = travel[2 * axis + (side > 0 ? 1 : 0)] * depth;
+      glm::dvec2 a, b;
+      a[axis] = side > 0 ? wall - toward - glass_shift : wall;
+      b[axis] = side > 0 ? wall : wall + toward + glass_shift;
+      a[other] =
+          lo[other] - (travel[2 * other + 1] + k_out) * depth - glass_shift;
+      b[other] = hi[other] + (travel[2 * other] + k_out) * depth + glass_shift;
+      for (int i = 0; i < 4; ++i)
+        q.emplace_back(i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, 0.0);
+    }
+  }
+  std::vector<glm::dvec3> inside;
+  for (const glm::dvec3& p : q) {
+    inside.emplace_back(std::clamp(p.x, -half.x, half.x),
+                        std::clamp(p.y, -half.y, half.y), 0.0);
+  }
+  return SurfaceNear(f, inside, 0.0);
+}
+
 }  // namespace ripple::render::internal

@@ -59,6 +59,14 @@ glm::ivec4 MirroredObjectsRect(const FrameState& f);
 // in `image_window` (x, y, w, h: image pixels, the occluder mask's window).
 glm::ivec4 PlateLookupRect(const FrameState& f, const glm::ivec4& image_window);
 
+// Surface points whose refracted lookup may land where the scene copy shows
+// a virtual obstacle: board points the obstacles hide from the camera (their
+// bounding boxes carried along the camera's rays to the board), reached by
+// a ray straight (the rays' horizontal travel towards each wall), after a
+// side wall's mirror (the hidden box's mirror image), or out through a
+// wall (as PlateLookupRect).
+glm::ivec4 ObstacleLookupRect(const FrameState& f);
+
 // A rectangle inside which no pixel's shading involves a wall (unlike the
 // others, it bounds where an effect is absent): every surface point seen
 // there has a view ray that reaches it without crossing a wall's glass on

@@ -62,19 +62,22 @@ uniform float u_glint_peak;      // disc radiance per unit Fresnel
 uniform float u_inv_alpha2;      // 1 / (disc's angular radius)^2
 uniform sampler2D u_mirror;      // mirrored obstacles and pen (premultiplied)
 uniform float u_mirror_depth;    // typical height of what it mirrors, metres
+#ifdef OBSTACLES
 // The virtual obstacles (pass_water.h, kMaxTracedObstacles), each in its own
 // frame: base centre at the origin, axis +z; shape = (half x, half y,
 // height, 0) for a box, (radius, radius, height, 1) for a cylinder.
+const int kMaxObstacles = 1;
 uniform int u_obstacle_count;
-uniform mat4 u_obstacle_from_tank[4];
-uniform vec4 u_obstacle_shape[4];
+uniform mat4 u_obstacle_from_tank[kMaxObstacles];
+uniform vec4 u_obstacle_shape[kMaxObstacles];
 uniform sampler2D u_video;  // the camera's own frame: no virtual object in it
 
 // Distance along o + s d (0 < s < s_max, d unit) to the nearest virtual
-// obstacle; s_max when it meets none.
+// obstacle; s_max when it meets none. A constant trip count: unrolled, the
+// uniforms' indices are constants (llvmpipe runs every iteration anyway).
 float ObstaclesHit(vec3 o, vec3 d, float s_max) {
   float nearest = s_max;
-  for (int i = 0; i < u_obstacle_count; ++i) {
+  for (int i = 0; i < kMaxObstacles; ++i) {
     vec3 lo = (u_obstacle_from_tank[i] * vec4(o, 1.0)).xyz;
     vec3 ld = mat3(u_obstacle_from_tank[i]) * d;
     vec4 shape = u_obstacle_shape[i];
@@ -96,10 +99,12 @@ float ObstaclesHit(vec3 o, vec3 d, float s_max) {
       in_s = max(in_s, max(near.x, near.y));
       out_s = min(out_s, min(far.x, far.y));
     }
-    nearest = in_s < out_s && in_s < nearest ? in_s : nearest;
+    bool hit = i < u_obstacle_count && in_s < out_s && in_s < nearest;
+    nearest = hit ? in_s : nearest;
   }
   return nearest;
 }
+#endif
 
 #ifdef REAL_PEN
 uniform vec3 u_pen_tip;      // shaft axis: tip ...
@@ -323,25 +328,22 @@ void main() {
 #endif
   vec2 lookup_uv = VideoUv(lookup);
   vec4 seen = FrameAt(u_scene, lookup_uv);
+#ifdef OBSTACLES
   // A virtual obstacle in the copy where the ray lands may only hide that
   // point from the camera, not stand in the ray's way (the copy is the
   // camera's view, the ray runs from the surface). Traced against the
-  // obstacles: a ray that meets one takes the copy where it meets it (the
-  // face the camera sees there, else the copy as it was); one that passes
-  // reads the point in the camera's own frame, which holds no virtual
-  // object.
-  if (seen.a < 0.5 && u_obstacle_count > 0 && !pen_hit) {
-    float s1 = ObstaclesHit(p, t, leg1);
-    float s2 = leg2 > 0.0 ? ObstaclesHit(leg2_from, leg2_dir, leg2) : 0.0;
-    if (s1 < leg1 || s2 < leg2) {
-      vec3 hit = s1 < leg1 ? p + s1 * t : leg2_from + s2 * leg2_dir;
-      vec4 at_hit = textureLod(u_scene, VideoUv(hit), 0.0);
-      seen = at_hit.a < 0.5 ? at_hit : seen;
-    } else {
-      vec2 frame_px = DistortedPixel(lookup_uv * u_image_size - 0.5);
-      seen = vec4(FrameAt(u_video, (frame_px + 0.5) / u_image_size).rgb, 1.0);
-    }
+  // obstacles: a ray that meets one keeps the copy's obstacle; one that
+  // passes reads the point in the camera's own frame, which holds no
+  // virtual object (one bilinear fetch: llvmpipe runs this on every pixel
+  // of the variant).
+  bool passes = ObstaclesHit(p, t, leg1) >= leg1 &&
+                ObstaclesHit(leg2_from, leg2_dir, leg2) >= leg2;
+  if (seen.a < 0.5 && !pen_hit && passes) {
+    vec2 frame_px = DistortedPixel(lookup_uv * u_image_size - 0.5);
+    seen = vec4(
+        textureLod(u_video, (frame_px + 0.5) / u_image_size, 0.0).rgb, 1.0);
   }
+#endif
   seen.rgb = DecodeVideo(seen.rgb);
 #ifdef REAL_PLATE
   // A board point (z = 0) the video does not show (the occluder mask: 1 an

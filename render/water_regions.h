@@ -24,7 +24,10 @@
 //    the occluder mask's window; it lies within (k + k_out) * depth of the
 //    surface point, k_out the travel of the ray that left through a wall,
 //    plus the shift along a wall inside its glass of a ray the glass
-//    totally reflects.
+//    totally reflects;
+//  - the virtual obstacles: the refracted lookup point lands on the board
+//    an obstacle hides from the camera (ObstacleLookupRect), where the scene
+//    copy shows the obstacle.
 // A rectangle is empty ({0, 0, 0, 0}) when the effect touches nothing and
 // the whole window when the bound cannot be made (a point behind the
 // camera, the camera under the water, rays near the horizontal).

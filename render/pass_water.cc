@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <glm/gtc/type_ptr.hpp>
 #include <memory>
 #include <mutex>
@@ -275,26 +276,48 @@ void WaterPass::UpdateFloorSeen(const FrameState& f) {
       glm::vec3(floor_albedo_ * light * double(f.shading.inv_n2));
 }
 
+std::string WaterPass::VariantDefines(int v) const {
+  std::string defines;
+  if (options_.env_cube) defines += "#define ENV_CUBE 1\n";
+  if (options_.sky) defines += "#define SKY 1\n";
+  if (options_.cubic_refraction) defines += "#define REFRACTION_CUBIC 1\n";
+  if (v & kShadows) defines += "#define SHADOWS 1\n";
+  if (v & kCaustics) defines += "#define CAUSTICS 1\n";
+  if (v & kReflection) defines += "#define REFLECTION 1\n";
+  if (v & kRefraction) defines += "#define REFRACTION 1\n";
+  if (v & kRealPen) defines += "#define REAL_PEN 1\n";
+  if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
+  if (v & kMirror) defines += "#define MIRROR 1\n";
+  if (v & kWallFree) defines += "#define WALL_FREE 1\n";
+  if (v & kObstacles) defines += "#define OBSTACLES 1\n";
+  return defines;
+}
+
+const WaterPass::Shading& WaterPass::Variant(int v) const {
+  Shading& s = variants_[v];
+  if (s.program.id() != 0 || !(v & kObstacles)) return s;
+  // Built on first use: only frames with an obstacle in view need these.
+  std::string error;
+  if (!obstacles_failed_ &&
+      BuildShading(&s, VariantDefines(v), options_, &error))
+    return s;
+  if (!obstacles_failed_)
+    std::fprintf(stderr, "ripple: water shader with obstacles: %s\n",
+                 error.c_str());
+  obstacles_failed_ = true;
+  return variants_[v & ~kObstacles];
+}
+
 bool WaterPass::Create(const Options& options, std::string* error) {
   options_ = options;
   for (int v = 0; v < kVariants; ++v) {
     if ((v & (kRealPen | kRealPlate)) && !(v & kRefraction)) continue;
     if ((v & kMirror) && !(v & kReflection)) continue;
-    if ((v & (kWallFree | kObstacles)) && !(v & kRefraction)) continue;
-    std::string defines;
-    if (options.env_cube) defines += "#define ENV_CUBE 1\n";
-    if (options.sky) defines += "#define SKY 1\n";
-    if (options.cubic_refraction) defines += "#define REFRACTION_CUBIC 1\n";
-    if (v & kShadows) defines += "#define SHADOWS 1\n";
-    if (v & kCaustics) defines += "#define CAUSTICS 1\n";
-    if (v & kReflection) defines += "#define REFLECTION 1\n";
-    if (v & kRefraction) defines += "#define REFRACTION 1\n";
-    if (v & kRealPen) defines += "#define REAL_PEN 1\n";
-    if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
-    if (v & kMirror) defines += "#define MIRROR 1\n";
-    if (v & kWallFree) defines += "#define WALL_FREE 1\n";
-    if (v & kObstacles) defines += "#define OBSTACLES 1\n";
-    if (!BuildShading(&variants_[v], defines, options, error)) return false;
+    if ((v & kWallFree) && !(v & kRefraction)) continue;
+    // The obstacles' variants are built when first drawn (Variant).
+    if (v & kObstacles) continue;
+    if (!BuildShading(&variants_[v], VariantDefines(v), options, error))
+      return false;
   }
   if (!BuildShading(&flat_, "#define FLAT_WATER 1\n", options, error) ||
       !BuildProgram(&depth_, "water_depth", "water.vert", "depth.frag", "",
@@ -633,7 +656,7 @@ void WaterPass::ShadeCells(const FrameState& f, const RealObjectsState& real,
       const int e = effects_at(xs[a], y0);
       size_t end = a + 1;
       while (end + 1 < xs.size() && effects_at(xs[end], y0) == e) ++end;
-      Prepare(variants_[base | e], f, real);
+      Prepare(Variant(base | e), f, real);
       glScissor(xs[a], y0, xs[end] - xs[a], y1 - y0);
       glDrawArrays(GL_TRIANGLES, 0, 3);
       a = end;

@@ -112,8 +112,13 @@ class WaterPass {
     // The virtual obstacles the refracted rays are traced against.
     GLint obstacle_count = -1, obstacle_from_tank = -1, obstacle_shape = -1;
   };
-  bool BuildShading(Shading* s, const std::string& defines,
-                    const Options& options, std::string* error);
+  static bool BuildShading(Shading* s, const std::string& defines,
+                           const Options& options, std::string* error);
+  // The #defines of variant `v` under this pass's options.
+  std::string VariantDefines(int v) const;
+  // Variant `v`, a kObstacles one built on first use (without kObstacles
+  // if that build fails, reported once).
+  const Shading& Variant(int v) const;
   // Binds `s` and sets the frame's uniforms.
   void Prepare(const Shading& s, const FrameState& f,
                const RealObjectsState& real) const;
@@ -162,7 +167,9 @@ class WaterPass {
   // factor 1 / (1 - R rho) (UpdateFloorSeen).
   glm::dvec3 floor_albedo_{0.0};
   bool have_floor_albedo_ = false;
-  Shading variants_[kVariants];
+  // Mutable: the kObstacles variants are built when first drawn.
+  mutable Shading variants_[kVariants];
+  mutable bool obstacles_failed_ = false;
   Shading flat_;  // Effects::flat_water: one colour, whatever the effects
   Program depth_;
   CommonUniforms depth_common_;

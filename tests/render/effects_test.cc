@@ -1158,6 +1158,76 @@ TEST(EffectsTest, ARayPastAnObstacleSeesTheFloorItHidesFromTheCamera) {
   EXPECT_GT(meets_sum / meets, 20.0) << "a ray meeting the pillar shows it";
 }
 
+// The obstacles' region holds every ray that lands where the copy shows
+// the obstacle: for the test scene's ripple (1.5 times steeper) seen from
+// the front and at an angle, every pixel whose refracted ray meets the
+// floor at a point the pillar hides from the camera lies inside
+// ObstacleLookupRect, and from the front the region leaves part of the
+// water out (what it is for).
+TEST(EffectsTest, ObstacleRegionHoldsEveryLookupThePillarHides) {
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW, kH);
+  for (const View view : {View::kFront, View::kTilted}) {
+    TestScene s = MakeScene(kW, kH, view, true, false, 0.015, 0.0);
+    for (float& h : s.heights) h *= 1.5f;
+    Obstacle pillar;
+    const glm::dvec2 base(0.045, 0.015);
+    pillar.tank_from_obstacle[3] = glm::dvec4(base, 0.0, 1.0);
+    s.inputs.obstacles.push_back(pillar);
+    internal::HeightTexturePass heights;
+    const WaterOptics optics;
+    const internal::FrameState f = FrameWithHeights(s, optics, &heights);
+    const glm::ivec4 region = internal::ObstacleLookupRect(f);
+    auto inside = [](const glm::ivec4& r, double x, double y) {
+      return x >= r.x && x < r.x + r.z && y >= r.y && y < r.y + r.w;
+    };
+    const HeightFieldView& w = s.inputs.water;
+    const TankGeometry& t = s.inputs.tank;
+    int hidden = 0, outside = 0, water = 0, water_outside = 0;
+    for (int v = 0; v < kH; ++v) {
+      for (int u = 0; u < kW; ++u) {
+        const glm::dvec3 ray = glm::normalize(
+            glm::dmat3(f.tank_from_cam) *
+            glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
+        if (ray.z >= -1e-6) continue;
+        const glm::dvec3 p = SurfaceOnRay(s.inputs, f.cam_in_tank, ray);
+        if (std::abs(p.x) > 0.5 * t.size_x || std::abs(p.y) > 0.5 * t.size_y)
+          continue;
+        // The pillar itself, in front of the surface: not water.
+        const double to_p = glm::length(p - f.cam_in_tank);
+        if (CylinderHit(f.cam_in_tank, ray, to_p, base, pillar.size.x,
+                        pillar.size.z) < to_p) {
+          continue;
+        }
+        ++water;
+        if (!inside(region, u + 0.5, v + 0.5)) ++water_outside;
+        const glm::dvec3 tr =
+            glm::refract(ray, SurfaceNormal(w, p), 1.0 / optics.ior);
+        if (tr.z > -1e-6) continue;
+        const glm::dvec3 fl = p + tr * (-p.z / tr.z);
+        if (std::abs(fl.x) > 0.5 * t.size_x || std::abs(fl.y) > 0.5 * t.size_y)
+          continue;
+        const double to_floor = glm::length(fl - f.cam_in_tank);
+        const glm::dvec3 to = (fl - f.cam_in_tank) / to_floor;
+        if (CylinderHit(f.cam_in_tank, to, to_floor, base, pillar.size.x,
+                        pillar.size.z) >= to_floor) {
+          continue;
+        }
+        ++hidden;
+        if (!inside(region, u + 0.5, v + 0.5)) ++outside;
+      }
+    }
+    EXPECT_GT(hidden, 100) << "view " << int(view);
+    EXPECT_EQ(outside, 0) << "view " << int(view);
+    std::printf(
+        "view %d: %d hidden lookups, %d of %d water pixels outside "
+        "the region\n",
+        int(view), hidden, water_outside, water);
+    // From the tilted view's camera, 12 cm up, the pillar hides the board
+    // out past the tank: there the region is all the water.
+    if (view == View::kFront) EXPECT_GT(water_outside, water / 10);
+  }
+}
+
 // The real pen hides a virtual obstacle behind it, as it hides the water:
 // where the pen's shaft stands in front of a pillar the output is the
 // video (which shows the pen); without the pen's phantom the pillar covers

@@ -116,6 +116,20 @@ glm::dvec3 SurfaceOnRay(const SceneInputs& in, const glm::dvec3& eye,
   return p;
 }
 
+// Pixel (u, v)'s unit viewing ray (tank frame) and the surface point it
+// meets; false when the ray does not point down or the point lies outside
+// the tank's inner walls.
+bool WaterAtPixel(const TestScene& s, const internal::FrameState& f, int u,
+                  int v, glm::dvec3* ray, glm::dvec3* p) {
+  *ray = glm::normalize(
+      glm::dmat3(f.tank_from_cam) *
+      glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
+  if (ray->z >= -1e-6) return false;
+  *p = SurfaceOnRay(s.inputs, f.cam_in_tank, *ray);
+  const TankGeometry& t = s.inputs.tank;
+  return std::abs(p->x) <= 0.5 * t.size_x && std::abs(p->y) <= 0.5 * t.size_y;
+}
+
 // The surface's unit normal at p, by central differences over a cell.
 glm::dvec3 SurfaceNormal(const HeightFieldView& w, const glm::dvec3& p) {
   const double e = 0.5 * w.cell_size;
@@ -485,13 +499,8 @@ TEST(EffectsTest, WallFreeRectangleHoldsNoRayThatMeetsAWall) {
     int water = 0, inside = 0, through_glass = 0, to_wall = 0;
     for (int v = 0; v < kH; ++v) {
       for (int u = 0; u < kW; ++u) {
-        const glm::dvec3 ray = glm::normalize(
-            glm::dmat3(f.tank_from_cam) *
-            glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
-        if (ray.z >= -1e-6) continue;
-        const glm::dvec3 p = SurfaceOnRay(s.inputs, eye, ray);
-        if (std::abs(p.x) > 0.5 * t.size_x || std::abs(p.y) > 0.5 * t.size_y)
-          continue;
+        glm::dvec3 ray, p;
+        if (!WaterAtPixel(s, f, u, v, &ray, &p)) continue;
         ++water;
         // Window x = u + 0.5; the FBO's rows are the image's (top first).
         if (!(u >= r.x && u < r.x + r.z && v >= r.y && v < r.y + r.w)) continue;
@@ -1185,13 +1194,8 @@ TEST(EffectsTest, ObstacleRegionHoldsEveryLookupThePillarHides) {
     int hidden = 0, outside = 0, water = 0, water_outside = 0;
     for (int v = 0; v < kH; ++v) {
       for (int u = 0; u < kW; ++u) {
-        const glm::dvec3 ray = glm::normalize(
-            glm::dmat3(f.tank_from_cam) *
-            glm::dvec3((u - s.k.cx) / s.k.fx, (v - s.k.cy) / s.k.fy, 1.0));
-        if (ray.z >= -1e-6) continue;
-        const glm::dvec3 p = SurfaceOnRay(s.inputs, f.cam_in_tank, ray);
-        if (std::abs(p.x) > 0.5 * t.size_x || std::abs(p.y) > 0.5 * t.size_y)
-          continue;
+        glm::dvec3 ray, p;
+        if (!WaterAtPixel(s, f, u, v, &ray, &p)) continue;
         // The pillar itself, in front of the surface: not water.
         const double to_p = glm::length(p - f.cam_in_tank);
         if (CylinderHit(f.cam_in_tank, ray, to_p, base, pillar.size.x,
@@ -1224,7 +1228,9 @@ TEST(EffectsTest, ObstacleRegionHoldsEveryLookupThePillarHides) {
         int(view), hidden, water_outside, water);
     // From the tilted view's camera, 12 cm up, the pillar hides the board
     // out past the tank: there the region is all the water.
-    if (view == View::kFront) EXPECT_GT(water_outside, water / 10);
+    if (view == View::kFront) {
+      EXPECT_GT(water_outside, water / 10);
+    }
   }
 }
 

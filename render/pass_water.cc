@@ -426,8 +426,9 @@ void WaterPass::Prepare(const Shading& s, const FrameState& f,
   glUniform4f(s.plate_map, real.plate_map.x, real.plate_map.y, real.plate_map.z,
               real.plate_map.w);
   glUniform1f(s.plate_gain, real.plate_gain);
-  // Locations are -1 without kObstacles (Draw uses that variant for up to
+  // Only the kObstacles variants have them (Draw uses those for up to
   // kMaxTracedObstacles).
+  if (s.obstacle_count < 0) return;
   const std::vector<Obstacle>& obstacles = f.scene->obstacles;
   const int n =
       static_cast<int>(std::min(obstacles.size(), size_t{kMaxTracedObstacles}));

@@ -130,6 +130,25 @@ bool RefractedTravel(const FrameState& f, double slope, double travel[4]) {
   });
 }
 
+// How far along a wall a ray the glass totally reflects moves inside it:
+// 2 d tan(theta_g) at most, and theta_g < asin(n_water / n_glass).
+double GlassShift(const FrameState& f) {
+  const double sin_g = std::min(f.optics->ior / f.optics->glass_ior, 0.999f);
+  return 2.0 * f.optics->glass_thickness_m * sin_g /
+         std::sqrt(1.0 - sin_g * sin_g);
+}
+
+// The horizontal travel per unit height of a ray out through a vertical
+// wall, for rays of horizontal travel k per unit depth in the water: the
+// ray's vertical component grows by the index, |d_z| = n / sqrt(1 + k^2) at
+// the shallowest. False when that ray could run near the horizontal.
+bool OutTravel(const FrameState& f, double k, double* k_out) {
+  const double out_z = std::min(1.0, f.optics->ior / std::sqrt(1.0 + k * k));
+  if (!std::isfinite(k) || out_z < 0.1) return false;
+  *k_out = std::sqrt(1.0 - out_z * out_z) / out_z;
+  return true;
+}
+
 }  // namespace
 
 glm::ivec4 IntersectRect(const glm::ivec4& a, const glm::ivec4& b) {
@@ -372,17 +391,10 @@ glm::ivec4 PlateLookupRect(const FrameState& f,
   if (!CornersOnPlanes(f, image_window, 1.0, {0.0}, &q)) return WholeWindow(f);
   const double depth = f.scene->tank.water_level + kWaveRange_m;
   const double k = RefractedReach(f, SlopeMax(f));
-  // Out through a vertical wall the ray's vertical component grows by the
-  // index: |d_z| = n / sqrt(1 + k^2) at the shallowest.
-  const double out_z = std::min(1.0, f.optics->ior / std::sqrt(1.0 + k * k));
-  if (!std::isfinite(k) || out_z < 0.1) return WholeWindow(f);
-  const double k_out = std::sqrt(1.0 - out_z * out_z) / out_z;
-  // A ray the glass totally reflects also moves along the wall inside it,
-  // by 2 d tan(theta_g) at most, and theta_g < asin(n_water / n_glass).
-  const double sin_g = std::min(f.optics->ior / f.optics->glass_ior, 0.999f);
-  const double glass_shift = 2.0 * f.optics->glass_thickness_m * sin_g /
-                             std::sqrt(1.0 - sin_g * sin_g);
-  return SurfaceNear(f, q, (k + k_out) * depth + glass_shift + 0.001);
+  // Out through a wall, and along it inside the glass.
+  double k_out;
+  if (!OutTravel(f, k, &k_out)) return WholeWindow(f);
+  return SurfaceNear(f, q, (k + k_out) * depth + GlassShift(f) + 0.001);
 }
 
 glm::ivec4 ObstacleLookupRect(const FrameState& f) {
@@ -411,13 +423,10 @@ glm::ivec4 ObstacleLookupRect(const FrameState& f) {
   double travel[4];
   const double slope = SlopeMax(f);
   const double k = RefractedReach(f, slope);
-  if (!RefractedTravel(f, slope, travel) || !std::isfinite(k))
-    return WholeWindow(f);
+  if (!RefractedTravel(f, slope, travel)) return WholeWindow(f);
   const TankGeometry& t = scene.tank;
   const double depth = t.water_level + kWaveRange_m;
-  const double sin_g = std::min(f.optics->ior / f.optics->glass_ior, 0.999f);
-  const double glass_shift = 2.0 * f.optics->glass_thickness_m * sin_g /
-                             std::sqrt(1.0 - sin_g * sin_g);
+  const double glass_shift = GlassShift(f);
   // A refracted ray from surface point p lands at f = p + D, D.x within
   // [-travel[0], travel[1]] * depth and D.y within [-travel[2], travel[3]]
   // * depth: p lies in the hidden box moved back by D.
@@ -451,9 +460,8 @@ glm::ivec4 ObstacleLookupRect(const FrameState& f) {
   // the rays' travel towards that wall, spread along it by their travel
   // there and, past the glass, by k_out per unit height (as
   // PlateLookupRect bounds it).
-  const double out_z = std::min(1.0, f.optics->ior / std::sqrt(1.0 + k * k));
-  if (out_z < 0.1) return WholeWindow(f);
-  const double k_out = std::sqrt(1.0 - out_z * out_z) / out_z;
+  double k_out;
+  if (!OutTravel(f, k, &k_out)) return WholeWindow(f);
   for (int axis = 0; axis < 2; ++axis) {
     const int other = 1 - axis;
     for (const double side : {-1.0, 1.0}) {

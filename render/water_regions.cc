@@ -1,6 +1,7 @@
 #include "render/water_regions.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -8,7 +9,20 @@
 namespace ripple::render::internal {
 namespace {
 
-constexpr double kWaveRange_m = 0.01;  // the surface within rest +- 1 cm
+// The lowest and highest the surface is this frame (the height texture's
+// decoded range around the rest level, a tenth of a millimetre wider).
+double SurfaceLow(const FrameState& f) {
+  const HeightFieldInfo& h = f.height;
+  return f.scene->tank.water_level +
+         std::min(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x) -
+         1e-4;
+}
+double SurfaceHigh(const FrameState& f) {
+  const HeightFieldInfo& h = f.height;
+  return f.scene->tank.water_level +
+         std::max(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x) +
+         1e-4;
+}
 
 glm::ivec4 WholeWindow(const FrameState& f) {
   return {0, 0, f.k->width, f.k->height};
@@ -31,15 +45,14 @@ bool OnPlane(const FrameState& f, const glm::dvec2& window, double z,
   return true;
 }
 
-// Window rectangle of the surface points (z at the rest level's lowest and
+// Window rectangle of the surface points (z at the surface's lowest and
 // highest) within `reach` metres horizontally of the tank points `q`.
 glm::ivec4 SurfaceNear(const FrameState& f, const std::vector<glm::dvec3>& q,
                        double reach) {
-  const double level = f.scene->tank.water_level;
   std::vector<glm::dvec3> pts;
   pts.reserve(q.size() * 8);
   for (const glm::dvec3& p : q) {
-    for (const double z : {level - kWaveRange_m, level + kWaveRange_m}) {
+    for (const double z : {SurfaceLow(f), SurfaceHigh(f)}) {
       for (int i = 0; i < 4; ++i) {
         pts.emplace_back(p.x + (i & 1 ? reach : -reach),
                          p.y + (i & 2 ? reach : -reach), z);
@@ -80,6 +93,16 @@ double SlopeMax(const FrameState& f) {
   return std::hypot(sx, sy);
 }
 
+// The 16 directions a normal is tilted in (ForRefractedRays).
+const std::array<glm::dvec2, 16> kAzimuths = [] {
+  std::array<glm::dvec2, 16> a;
+  for (int i = 0; i < 16; ++i) {
+    const double phi = i * (2.0 * M_PI / 16.0);
+    a[i] = {std::cos(phi), std::sin(phi)};
+  }
+  return a;
+}();
+
 // Calls `ray(r)` for rays refracted into the water: the camera's rays to
 // the tank's corners at the rest level (the steepest incidence is at the
 // farthest corner), the normal tilted by up to `slope` in 16 directions.
@@ -95,9 +118,7 @@ bool ForRefractedRays(const FrameState& f, double slope, F&& ray) {
     for (int s = 0; s <= 2; ++s) {
       const double m = slope * s / 2.0;
       for (int a = 0; a < (s == 0 ? 1 : 16); ++a) {
-        const double phi = a * (2.0 * M_PI / 16.0);
-        const glm::dvec3 n = glm::normalize(
-            glm::dvec3(-m * std::cos(phi), -m * std::sin(phi), 1));
+        const glm::dvec3 n = glm::normalize(glm::dvec3(-m * kAzimuths[a], 1));
         const glm::dvec3 r = glm::refract(v, n, eta);
         if (!(r.z < -0.1)) return false;
         ray(r);
@@ -149,6 +170,34 @@ bool OutTravel(const FrameState& f, double k, double* k_out) {
   return true;
 }
 
+// Half a step of the slopes' 8-bit code: what the tile maxima may be short
+// of a lookup's slope.
+double SlopeCodeStep(const HeightFieldInfo& h) {
+  return 0.5 * std::hypot(h.decode_scale.y, h.decode_scale.z) / 255.0;
+}
+
+// Calls `tile(t0, t1, slope)` for each slope tile of the field: its tank
+// rectangle (the border tiles reach out to the walls and beyond, where the
+// lookups are clamped) and its steepest slope, the code's rounding added.
+template <typename F>
+void ForSlopeTiles(const HeightFieldInfo& h, F&& tile) {
+  const double code_step = SlopeCodeStep(h);
+  const glm::dvec2 origin = -0.5 * glm::dvec2(h.extent);
+  constexpr double kFar = 1e3;  // metres: "unbounded" for border tiles
+  for (int j = 0; j < h.tiles_y; ++j) {
+    for (int i = 0; i < h.tiles_x; ++i) {
+      glm::dvec2 t0 = origin + glm::dvec2(i, j) * double(h.tile_m);
+      glm::dvec2 t1 = t0 + glm::dvec2(h.tile_m);
+      if (i == 0) t0.x = -kFar;
+      if (j == 0) t0.y = -kFar;
+      if (i == h.tiles_x - 1) t1.x = kFar;
+      if (j == h.tiles_y - 1) t1.y = kFar;
+      tile(t0, t1,
+           h.tile_slope[static_cast<size_t>(j) * h.tiles_x + i] + code_step);
+    }
+  }
+}
+
 }  // namespace
 
 glm::ivec4 IntersectRect(const glm::ivec4& a, const glm::ivec4& b) {
@@ -162,8 +211,7 @@ glm::ivec4 IntersectRect(const glm::ivec4& a, const glm::ivec4& b) {
 glm::ivec4 PenRefractionRect(const FrameState& f, const glm::dvec3& tip,
                              const glm::dvec3& axis, double length,
                              double radius, double margin) {
-  const double level = f.scene->tank.water_level;
-  const double top = level + kWaveRange_m;
+  const double top = SurfaceHigh(f);
   if (!(f.cam_in_tank.z > top + 1e-3)) return WholeWindow(f);
   // The shaft's part under the highest surface, as a box grown by its
   // radius and margin.
@@ -223,12 +271,11 @@ glm::ivec4 MirroredObjectsRect(const FrameState& f) {
 glm::ivec4 MirrorLookupRect(const FrameState& f,
                             const glm::ivec4& mirror_window) {
   if (Empty(mirror_window)) return {0, 0, 0, 0};
-  const double level = f.scene->tank.water_level;
   // The lookup point (the surface point moved by the slope) on either
   // surface height, then the surface points within reach of it.
   std::vector<glm::dvec3> q;
-  if (!CornersOnPlanes(f, mirror_window, 0.0,
-                       {level - kWaveRange_m, level + kWaveRange_m}, &q)) {
+  if (!CornersOnPlanes(f, mirror_window, 0.0, {SurfaceLow(f), SurfaceHigh(f)},
+                       &q)) {
     return WholeWindow(f);
   }
   const HeightFieldInfo& h = f.height;
@@ -243,31 +290,18 @@ glm::ivec4 MirrorLookupRect(const FrameState& f,
     lo = glm::min(lo, glm::dvec2(p));
     hi = glm::max(hi, glm::dvec2(p));
   }
-  // The slopes' 8-bit code rounds by up to half a step.
-  const double code_step =
-      0.5 * std::hypot(h.decode_scale.y, h.decode_scale.z) / 255.0;
-  const glm::dvec2 origin = -0.5 * glm::dvec2(h.extent);
-  constexpr double kFar = 1e3;  // metres: "unbounded" for border tiles
   std::vector<glm::dvec3> pts;
-  for (int j = 0; j < h.tiles_y; ++j) {
-    for (int i = 0; i < h.tiles_x; ++i) {
-      const double slope = h.tile_slope[static_cast<size_t>(j) * h.tiles_x + i];
-      const double reach = 2.0 * kMirrorDepth_m * (slope + code_step) + 0.001;
-      glm::dvec2 t0 = origin + glm::dvec2(i, j) * double(h.tile_m);
-      glm::dvec2 t1 = t0 + glm::dvec2(h.tile_m);
-      if (i == 0) t0.x = -kFar;
-      if (j == 0) t0.y = -kFar;
-      if (i == h.tiles_x - 1) t1.x = kFar;
-      if (j == h.tiles_y - 1) t1.y = kFar;
-      const glm::dvec2 a = glm::max(t0, lo - reach);
-      const glm::dvec2 b = glm::min(t1, hi + reach);
-      if (!(a.x <= b.x && a.y <= b.y)) continue;
-      for (const double z : {level - kWaveRange_m, level + kWaveRange_m}) {
-        for (int c = 0; c < 4; ++c)
-          pts.emplace_back(c & 1 ? b.x : a.x, c & 2 ? b.y : a.y, z);
-      }
-    }
-  }
+  ForSlopeTiles(h,
+                [&](const glm::dvec2& t0, const glm::dvec2& t1, double slope) {
+                  const double reach = 2.0 * kMirrorDepth_m * slope + 0.001;
+                  const glm::dvec2 a = glm::max(t0, lo - reach);
+                  const glm::dvec2 b = glm::min(t1, hi + reach);
+                  if (!(a.x <= b.x && a.y <= b.y)) return;
+                  for (const double z : {SurfaceLow(f), SurfaceHigh(f)}) {
+                    for (int c = 0; c < 4; ++c)
+                      pts.emplace_back(c & 1 ? b.x : a.x, c & 2 ? b.y : a.y, z);
+                  }
+                });
   if (pts.empty()) return {0, 0, 0, 0};
   return PointsRect(f.clip_from_tank, pts.data(), static_cast<int>(pts.size()),
                     2, f.k->width, f.k->height);
@@ -276,14 +310,7 @@ glm::ivec4 MirrorLookupRect(const FrameState& f,
 glm::ivec4 WallFreeRect(const FrameState& f) {
   const TankGeometry& t = f.scene->tank;
   const glm::dvec3& c = f.cam_in_tank;
-  // The surface's heights this frame: the height texture's decoded range.
-  const HeightFieldInfo& h = f.height;
-  const double h0 =
-      std::min(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x);
-  const double h1 =
-      std::max(h.decode_offset.x, h.decode_offset.x + h.decode_scale.x);
-  const double z_lo = t.water_level + h0 - 1e-4;
-  const double z_hi = t.water_level + h1 + 1e-4;
+  const double z_lo = SurfaceLow(f), z_hi = SurfaceHigh(f);
   if (!(c.z > std::max<double>(t.wall_height, z_hi) + 1e-3)) return {};
   double travel[4];
   if (!RefractedTravel(f, SlopeMax(f), travel)) return {};
@@ -389,13 +416,89 @@ glm::ivec4 PlateLookupRect(const FrameState& f,
   // pixel each way for the mask's filtering.
   std::vector<glm::dvec3> q;
   if (!CornersOnPlanes(f, image_window, 1.0, {0.0}, &q)) return WholeWindow(f);
-  const double depth = f.scene->tank.water_level + kWaveRange_m;
+  const double depth = SurfaceHigh(f);
   const double k = RefractedReach(f, SlopeMax(f));
   // Out through a wall, and along it inside the glass.
   double k_out;
   if (!OutTravel(f, k, &k_out)) return WholeWindow(f);
   return SurfaceNear(f, q, (k + k_out) * depth + GlassShift(f) + 0.001);
 }
+
+namespace {
+
+struct Box2 {
+  glm::dvec2 lo, hi;  // tank x, y
+};
+
+// The surface boxes holding every surface point whose refracted lookup may
+// land on the board box [lo, hi], for rays of horizontal travel `travel`
+// per unit depth towards each wall (RefractedTravel) and `k_out` per unit
+// height out through a wall (OutTravel): the box moved back by the travel
+// (straight down), its mirror image across each wall a ray comes within
+// reach of (a side wall's glass mirrors the ray, which lands as if it went
+// on to the mirror image of its floor point), and the strip along a wall
+// the box reaches past (out through the wall to the board beyond it).
+void LookupSources(const FrameState& f, const glm::dvec2& lo,
+                   const glm::dvec2& hi, const double travel[4], double k_out,
+                   std::vector<Box2>* out) {
+  const TankGeometry& t = f.scene->tank;
+  const double depth = SurfaceHigh(f);
+  const double glass_shift = GlassShift(f);
+  // A refracted ray from surface point p lands at p + D, D.x within
+  // [-travel[0], travel[1]] * depth and D.y within [-travel[2], travel[3]]
+  // * depth: p lies in the box moved back by D.
+  auto moved_back = [&](const glm::dvec2& a, const glm::dvec2& b) {
+    out->push_back(
+        {a - glm::dvec2(travel[1], travel[3]) * depth - glass_shift,
+         b + glm::dvec2(travel[0], travel[2]) * depth + glass_shift});
+  };
+  // A ray that lands straight down or after a wall's mirror lands in the
+  // tank (or under a wall's glass): only that part of the box counts.
+  const glm::dvec2 half(0.5 * t.size_x, 0.5 * t.size_y);
+  const glm::dvec2 in_lo =
+      glm::max(lo, -half - double(f.optics->glass_thickness_m));
+  const glm::dvec2 in_hi =
+      glm::min(hi, half + double(f.optics->glass_thickness_m));
+  if (in_lo.x <= in_hi.x && in_lo.y <= in_hi.y) {
+    moved_back(in_lo, in_hi);
+    for (int axis = 0; axis < 2; ++axis) {
+      if (in_hi[axis] >
+          half[axis] - travel[2 * axis + 1] * depth - glass_shift) {
+        glm::dvec2 a = in_lo, b = in_hi;
+        a[axis] = 2.0 * half[axis] - in_hi[axis];
+        b[axis] = 2.0 * half[axis] - in_lo[axis];
+        moved_back(a, b);
+      }
+      if (in_lo[axis] < -half[axis] + travel[2 * axis] * depth + glass_shift) {
+        glm::dvec2 a = in_lo, b = in_hi;
+        a[axis] = -2.0 * half[axis] - in_hi[axis];
+        b[axis] = -2.0 * half[axis] - in_lo[axis];
+        moved_back(a, b);
+      }
+    }
+  }
+  // Out through a wall: surface points within the rays' travel towards
+  // that wall, spread along it by their travel there and, past the glass,
+  // by k_out per unit height (as PlateLookupRect bounds it).
+  for (int axis = 0; axis < 2; ++axis) {
+    const int other = 1 - axis;
+    for (const double side : {-1.0, 1.0}) {
+      const double wall = side * half[axis];
+      if (side * (side > 0 ? hi[axis] : lo[axis]) <= half[axis]) continue;
+      const double toward = travel[2 * axis + (side > 0 ? 1 : 0)] * depth;
+      Box2 box;
+      box.lo[axis] = side > 0 ? wall - toward - glass_shift : wall;
+      box.hi[axis] = side > 0 ? wall : wall + toward + glass_shift;
+      box.lo[other] =
+          lo[other] - (travel[2 * other + 1] + k_out) * depth - glass_shift;
+      box.hi[other] =
+          hi[other] + (travel[2 * other] + k_out) * depth + glass_shift;
+      out->push_back(box);
+    }
+  }
+}
+
+}  // namespace
 
 glm::ivec4 ObstacleLookupRect(const FrameState& f) {
   const SceneInputs& scene = *f.scene;
@@ -420,70 +523,56 @@ glm::ivec4 ObstacleLookupRect(const FrameState& f) {
   // The lookup's filter reads a couple of pixels around it.
   lo -= 0.003;
   hi += 0.003;
-  double travel[4];
-  const double slope = SlopeMax(f);
-  const double k = RefractedReach(f, slope);
-  if (!RefractedTravel(f, slope, travel)) return WholeWindow(f);
-  const TankGeometry& t = scene.tank;
-  const double depth = t.water_level + kWaveRange_m;
-  const double glass_shift = GlassShift(f);
-  // A refracted ray from surface point p lands at f = p + D, D.x within
-  // [-travel[0], travel[1]] * depth and D.y within [-travel[2], travel[3]]
-  // * depth: p lies in the hidden box moved back by D.
+  // The source boxes for rays refracted by normals up to `slope`; false
+  // when a ray could run near the horizontal (no bound).
+  std::vector<Box2> boxes;
+  auto sources = [&](double slope) {
+    boxes.clear();
+    double travel[4], k_out;
+    if (!RefractedTravel(f, slope, travel) ||
+        !OutTravel(f, RefractedReach(f, slope), &k_out)) {
+      return false;
+    }
+    LookupSources(f, lo, hi, travel, k_out, &boxes);
+    return true;
+  };
+  // The surface points are in the tank.
+  const glm::dvec2 half(0.5 * scene.tank.size_x, 0.5 * scene.tank.size_y);
   std::vector<glm::dvec3> q;
-  auto surface_box = [&](glm::dvec2 a, glm::dvec2 b) {
-    a -= glm::dvec2(travel[1], travel[3]) * depth + glass_shift;
-    b += glm::dvec2(travel[0], travel[2]) * depth + glass_shift;
+  auto add = [&](glm::dvec2 a, glm::dvec2 b) {
+    a = glm::max(a, -half);
+    b = glm::min(b, half);
+    if (!(a.x <= b.x && a.y <= b.y)) return;
     for (int i = 0; i < 4; ++i)
       q.emplace_back(i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, 0.0);
   };
-  surface_box(lo, hi);
-  // A ray a side wall's glass mirrors lands as if it went on past the wall
-  // to the mirror image of its floor point: the hidden box's image across
-  // each wall it comes within reach of.
-  const glm::dvec2 half(0.5 * t.size_x, 0.5 * t.size_y);
-  for (int axis = 0; axis < 2; ++axis) {
-    if (hi[axis] > half[axis] - travel[2 * axis + 1] * depth - glass_shift) {
-      glm::dvec2 a = lo, b = hi;
-      a[axis] = 2.0 * half[axis] - hi[axis];
-      b[axis] = 2.0 * half[axis] - lo[axis];
-      surface_box(a, b);
+  const HeightFieldInfo& h = f.height;
+  if (h.tile_slope == nullptr) {
+    if (!sources(SlopeMax(f))) return WholeWindow(f);
+    for (const Box2& b : boxes) add(b.lo, b.hi);
+  } else {
+    // Tile by tile, with the tile's own steepest slope: calm water far from
+    // the waves reaches only as far as flat water's rays. The boxes are made
+    // for kLevels slopes up to the frame's steepest, each tile taking the
+    // next one up (the rays' travel grows with the slope).
+    constexpr int kLevels = 8;
+    const double top = SlopeMax(f) + SlopeCodeStep(h);
+    std::vector<Box2> level_boxes[kLevels + 1];
+    for (int i = 0; i <= kLevels; ++i) {
+      if (!sources(top * i / kLevels)) return WholeWindow(f);
+      level_boxes[i] = boxes;
     }
-    if (lo[axis] < -half[axis] + travel[2 * axis] * depth + glass_shift) {
-      glm::dvec2 a = lo, b = hi;
-      a[axis] = -2.0 * half[axis] - hi[axis];
-      b[axis] = -2.0 * half[axis] - lo[axis];
-      surface_box(a, b);
-    }
+    ForSlopeTiles(
+        h, [&](const glm::dvec2& t0, const glm::dvec2& t1, double slope) {
+          const int i = std::clamp(
+              static_cast<int>(std::ceil(slope / top * kLevels - 1e-9)), 0,
+              kLevels);
+          for (const Box2& b : level_boxes[i])
+            add(glm::max(t0, b.lo), glm::min(t1, b.hi));
+        });
   }
-  // Out through a wall to the board beyond it: from surface points within
-  // the rays' travel towards that wall, spread along it by their travel
-  // there and, past the glass, by k_out per unit height (as
-  // PlateLookupRect bounds it).
-  double k_out;
-  if (!OutTravel(f, k, &k_out)) return WholeWindow(f);
-  for (int axis = 0; axis < 2; ++axis) {
-    const int other = 1 - axis;
-    for (const double side : {-1.0, 1.0}) {
-      const double wall = side * half[axis];
-      if (side * (side > 0 ? hi[axis] : lo[axis]) <= half[axis]) continue;
-      const double toward = travel[2 * axis + (side > 0 ? 1 : 0)] * depth;
-      glm::dvec2 a, b;
-      a[axis] = side > 0 ? wall - toward - glass_shift : wall;
-      b[axis] = side > 0 ? wall : wall + toward + glass_shift;
-      a[other] =
-          lo[other] - (travel[2 * other + 1] + k_out) * depth - glass_shift;
-      b[other] = hi[other] + (travel[2 * other] + k_out) * depth + glass_shift;
-      for (int i = 0; i < 4; ++i)
-        q.emplace_back(i & 1 ? b.x : a.x, i & 2 ? b.y : a.y, 0.0);
-    }
-  }
-  std::vector<glm::dvec3> inside;
-  for (const glm::dvec3& p : q) {
-    inside.emplace_back(std::clamp(p.x, -half.x, half.x),
-                        std::clamp(p.y, -half.y, half.y), 0.0);
-  }
-  return SurfaceNear(f, inside, 0.0);
+  if (q.empty()) return {0, 0, 0, 0};
+  return SurfaceNear(f, q, 0.0);
 }
 
 }  // namespace ripple::render::internal

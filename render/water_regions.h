@@ -5,9 +5,11 @@
 // that touches a few per cent of the water would otherwise cost its full
 // price on all of it).
 //
-// Each rectangle bounds the surface points (z within the rest level +- 1 cm,
-// as the water pass's own rectangle) whose shading can involve the effect,
-// for the frame's steepest surface slope (the height texture's range):
+// Each rectangle bounds the surface points (z within this frame's lowest
+// and highest surface, the height texture's decoded range) whose shading
+// can involve the effect, for the frame's steepest surface slope (the
+// height texture's range) or, where the rectangle is made tile by tile,
+// each slope tile's own (HeightFieldInfo::tile_slope):
 //  - the real pen: the refracted ray from the surface meets the submerged
 //    shaft. The surface point seeing an underwater point P lies within
 //    depth(P) * k of the point above P, k the largest horizontal travel per
@@ -27,7 +29,8 @@
 //    totally reflects;
 //  - the virtual obstacles: the refracted lookup point lands on the board
 //    an obstacle hides from the camera (ObstacleLookupRect), where the scene
-//    copy shows the obstacle.
+//    copy shows the obstacle; tile by tile, so calm water reaches only as
+//    far as its rays travel.
 // A rectangle is empty ({0, 0, 0, 0}) when the effect touches nothing and
 // the whole window when the bound cannot be made (a point behind the
 // camera, the camera under the water, rays near the horizontal).

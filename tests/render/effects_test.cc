@@ -1568,6 +1568,35 @@ TEST(EffectsTest, FrontGlassOverTheWaterBlendsInLinearLight) {
   EXPECT_LT(sum / n, 0.5);
 }
 
+// Paints the scene's video grey by the board y (tank frame, z = 0) that
+// each pixel's camera ray meets (y = 1 m for rays at or above the horizon).
+template <typename F>
+void PaintVideoByBoardY(TestScene* s, F&& grey) {
+  const glm::dmat4 tank_from_cam = glm::inverse(s->inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  for (int y = 0; y < s->k.height; ++y) {
+    for (int x = 0; x < s->k.width; ++x) {
+      const glm::dvec3 ray(tank_from_cam * glm::dvec4((x - s->k.cx) / s->k.fx,
+                                                      (y - s->k.cy) / s->k.fy,
+                                                      1.0, 0.0));
+      const double by = ray.z < 0 ? eye.y + ray.y * (eye.z / -ray.z) : 1.0;
+      const auto g = static_cast<std::uint8_t>(grey(by));
+      for (int c = 0; c < 3; ++c)
+        s->video[3 * (static_cast<size_t>(y) * s->k.width + x) + c] = g;
+    }
+  }
+}
+
+// A renderer whose glass walls are `d` metres thick.
+std::unique_ptr<Renderer> RendererWithGlass(Context* ctx, const Intrinsics& k,
+                                            float d) {
+  RendererOptions options;
+  options.optics.glass_thickness_m = d;
+  auto r = Renderer::TryCreate(ctx, k, options, nullptr);
+  EXPECT_NE(r, nullptr);
+  return r;
+}
+
 TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
   constexpr int kW6 = 640, kH6 = 480;
   RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW6, kH6);
@@ -1621,23 +1650,13 @@ TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
     return 0.5 * (lo + hi);
   };
   auto measured_row = [&](float d) {
-    RendererOptions options;
-    options.optics.glass_thickness_m = d;
-    auto r = Renderer::TryCreate(ctx.get(), base.k, options, nullptr);
-    EXPECT_NE(r, nullptr);
+    auto r = RendererWithGlass(ctx.get(), base.k, d);
     if (r == nullptr) return std::nan("");
     TestScene s = MakeScene(kW6, kH6, View::kFront, false);
     s.inputs.effects.caustics = s.inputs.effects.shadows = false;
-    for (int y = 0; y < kH6; ++y) {
-      for (int x = 0; x < kW6; ++x) {
-        const glm::dvec3 ray(tank_from_cam * glm::dvec4((x - s.k.cx) / s.k.fx,
-                                                        (y - s.k.cy) / s.k.fy,
-                                                        1.0, 0.0));
-        const double by = ray.z < 0 ? eye.y + ray.y * (eye.z / -ray.z) : 1.0;
-        const std::uint8_t g = std::abs(by - y_line) < 0.001 ? 40 : 225;
-        for (int c = 0; c < 3; ++c) s.video[3 * (y * kW6 + x) + c] = g;
-      }
-    }
+    PaintVideoByBoardY(&s, [&](double by) {
+      return std::abs(by - y_line) < 0.001 ? 40 : 225;
+    });
     const cv::Mat out = RenderScene(r.get(), s.inputs);
     // The paper's level: the band's median (the painted line is darker).
     std::vector<int> levels;
@@ -1661,6 +1680,123 @@ TEST(EffectsTest, FrontGlassShiftsWhatLiesBehindItAsASlab) {
   ASSERT_GT(std::abs(want_thick - want_thin), 0.5);  // the slab's shift
   EXPECT_NEAR(measured_row(optics.glass_thickness_m), want_thick, 0.25);
   EXPECT_NEAR(measured_row(0.0f), want_thin, 0.25);
+}
+
+// A refracted ray that leaves the water through the back wall meets the
+// board beyond it where a parallel slab puts it: the slab keeps the ray's
+// direction but moves the point where it leaves (out and down by the path
+// in the glass). A camera 7.5 cm over the board looks over the front wall
+// at the water by the back wall; a line painted on the board 8 mm behind
+// the back wall's inner face shows in the water at the row the exact trace
+// (Snell at the surface, water to glass to air at the wall) predicts, with
+// the 3 mm glass and with none. Without the slab's shift the thick glass
+// would show the line where the thin one does, 2 rows off.
+TEST(EffectsTest, BackGlassShiftsWhatTheWaterSeesBeyondItAsASlab) {
+  constexpr int kW7 = 640, kH7 = 480;
+  RIPPLE_CONTEXT_OR_SKIP(ctx, Backend::kEgl, kW7, kH7);
+  TestScene base = MakeScene(kW7, kH7, View::kFront, false);
+  base.inputs.cam_from_tank = testing::LookAt(glm::dvec3(0.0, -0.2, 0.075),
+                                              glm::dvec3(0.0, 0.02, 0.01));
+  const TankGeometry& t = base.inputs.tank;
+  const WaterOptics optics;
+  const glm::dmat4 tank_from_cam = glm::inverse(base.inputs.cam_from_tank);
+  const glm::dvec3 eye(tank_from_cam[3]);
+  const int u = static_cast<int>(std::lround(base.k.cx));
+  const double half_y = 0.5 * t.size_y;
+  // The board's y beyond the back wall that the pixel row's refracted ray
+  // reaches through a slab of thickness d; NaN where the ray crosses the
+  // front wall's glass, misses the water, meets the floor or leaves the
+  // slab under the board, or where the slab mirrors it.
+  auto board_y = [&](double row, double d) {
+    const glm::dvec3 v = glm::normalize(glm::dvec3(
+        tank_from_cam * glm::dvec4((u - base.k.cx) / base.k.fx,
+                                   (row - base.k.cy) / base.k.fy, 1.0, 0.0)));
+    const double nan = std::nan("");
+    if (v.z >= 0 ||
+        eye.z + v.z * ((-half_y - d - eye.y) / v.y) < t.wall_height) {
+      return nan;
+    }
+    const glm::dvec3 s = eye + v * ((t.water_level - eye.z) / v.z);
+    if (std::abs(s.y) > half_y) return nan;
+    const glm::dvec3 w =
+        glm::refract(v, glm::dvec3(0.0, 0.0, 1.0), 1.0 / optics.ior);
+    const glm::dvec3 at_wall = s + w * ((half_y - s.y) / w.y);
+    if (at_wall.z <= 0) return nan;
+    const glm::dvec3 n(0.0, -1.0, 0.0);
+    const glm::dvec3 g =
+        glm::refract(w, n, double(optics.ior / optics.glass_ior));
+    const glm::dvec3 out = glm::refract(w, n, double(optics.ior));
+    if (glm::dot(out, out) < 0.5) return nan;
+    const glm::dvec3 exit = at_wall + g * (d / g.y);
+    if (exit.z <= 0) return nan;
+    return exit.y + out.y * (exit.z / -out.z);
+  };
+  std::vector<int> band;
+  for (int row = 0; row < kH7; ++row) {
+    if (!std::isnan(board_y(row, optics.glass_thickness_m)) &&
+        !std::isnan(board_y(row, 0.0))) {
+      band.push_back(row);
+    }
+  }
+  ASSERT_GE(band.size(), 8u);
+  const double row_mid = 0.5 * (band.front() + band.back());
+  const double y_line = board_y(row_mid, optics.glass_thickness_m);
+  ASSERT_GT(y_line, half_y + optics.glass_thickness_m);
+  // The row at which slab thickness d shows the line (bisection: lower rows
+  // meet the wall lower and see the board nearer it).
+  auto row_of = [&](double d, double y) {
+    double lo = band.front(), hi = band.back();
+    for (int i = 0; i < 60; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      (board_y(mid, d) > y ? lo : hi) = mid;
+    }
+    return 0.5 * (lo + hi);
+  };
+  auto predicted_row = [&](double d) { return row_of(d, y_line); };
+  // The rendered line's row: the centroid of what the line takes from the
+  // paper (the same render without the line subtracted), the line painted
+  // in the video as a Gaussian across y (1.5 mm) so that its centre is not
+  // rounded to the video's rows.
+  auto measured_row = [&](float d) {
+    auto r = RendererWithGlass(ctx.get(), base.k, d);
+    if (r == nullptr) return std::nan("");
+    TestScene s = base;
+    s.inputs.video.bgr = s.video.data();
+    s.inputs.water.heights = s.heights.data();
+    s.inputs.effects.caustics = s.inputs.effects.shadows = false;
+    s.inputs.effects.reflection = false;
+    cv::Mat out[2];
+    for (int with_line = 0; with_line < 2; ++with_line) {
+      PaintVideoByBoardY(&s, [&](double by) {
+        const double e = (by - y_line) / 0.0015;
+        return static_cast<int>(
+            std::lround(225.0 - with_line * 185.0 * std::exp(-e * e)));
+      });
+      out[with_line] = RenderScene(r.get(), s.inputs);
+    }
+    double sum = 0, weight = 0;
+    for (int row : band) {
+      for (int du = -2; du <= 2; ++du) {
+        const double w = std::max(0, out[0].at<cv::Vec3b>(row, u + du)[1] -
+                                         out[1].at<cv::Vec3b>(row, u + du)[1]);
+        sum += w * row;
+        weight += w;
+      }
+    }
+    return weight > 0 ? sum / weight : std::nan("");
+  };
+  const double want_thick = predicted_row(optics.glass_thickness_m);
+  const double want_thin = predicted_row(0.0);
+  std::printf(
+      "line beyond the back glass: rows %d-%d, predicted %.2f (3 mm) "
+      "and %.2f (no glass)\n",
+      band.front(), band.back(), want_thick, want_thin);
+  ASSERT_GT(std::abs(want_thick - want_thin), 1.0);  // the slab's shift
+  const double thick = measured_row(optics.glass_thickness_m);
+  const double thin = measured_row(0.0f);
+  std::printf("measured %.2f and %.2f\n", thick, thin);
+  EXPECT_NEAR(thick, want_thick, 0.2);
+  EXPECT_NEAR(thin, want_thin, 0.2);
 }
 
 // The tank's shadow on the board around it (pass_board_light.h): over a

@@ -136,6 +136,8 @@ bool TrackerOptions::IsValid(std::string* error) const {
   if (!(cut_jump_fraction > 0)) return fail("cut_jump_fraction must be > 0");
   if (!(pen_shaft_resolve_ratio >= 0 && pen_shaft_resolve_ratio < 1))
     return fail("pen_shaft_resolve_ratio must be in [0, 1)");
+  if (!(pen_shaft_turn_ratio >= 0 && pen_shaft_turn_ratio < 1))
+    return fail("pen_shaft_turn_ratio must be in [0, 1)");
   if (!(tank_hold_s >= 0 && pen_hold_s >= 0))
     return fail("hold times must be >= 0");
   return true;
@@ -280,6 +282,40 @@ void Tracker::ResolveByShaft(const cv::Mat& gray,
   e->pose.alternative_rmse_px = std::numeric_limits<double>::infinity();
   e->hypotheses = PenHypotheses{};
   e->flip_rejected = false;
+}
+
+void Tracker::CheckTurnByShaft(const cv::Mat& gray,
+                               const std::vector<TagObservation>& obs,
+                               const Pose& last, Estimate* e) const {
+  const double flip = options_.flip_angle_deg * kDegToRad;
+  // The pose to keep: the corners' own minimum near the last pose, or,
+  // where they slide from there to the estimate (one basin, its bottom
+  // moved by biased corners), the last pose itself, for the dense and shaft
+  // steps to refine.
+  ObjectPose kept;
+  if (!RefineObjectPose(options_.pose, camera_, obs, last, &kept) ||
+      !Reportable(obs, kept) ||
+      RotationDistance(kept.cam_from_object, e->pose.cam_from_object) <= flip) {
+    kept = e->pose;
+    kept.cam_from_object = last;
+    int corners = 0;
+    kept.sse_px2 = ReprojectionSse(camera_, obs, last, &corners);
+    kept.rmse_px = std::sqrt(kept.sse_px2 / std::max(corners, 1));
+    kept.iterations = 0;
+    kept.alternative.reset();
+  }
+  const int need = std::max((options_.pen_shaft.samples_per_side + 1) / 2, 1);
+  const int kept_edges = ShaftEdgeSupport(
+      gray, camera_, *rig_.pen, options_.pen_shaft, kept.cam_from_object);
+  if (kept_edges < need) return;
+  const int turned_edges = ShaftEdgeSupport(
+      gray, camera_, *rig_.pen, options_.pen_shaft, e->pose.cam_from_object);
+  if (!(turned_edges < options_.pen_shaft_turn_ratio * kept_edges)) return;
+  kept.alternative_rmse_px = e->pose.rmse_px;
+  e->pose = kept;
+  e->flip_rejected = true;
+  e->jumped = false;
+  e->hypotheses = PenHypotheses{};
 }
 
 std::optional<Tracker::Estimate> Tracker::EstimateTank(
@@ -500,6 +536,11 @@ FrameResult Tracker::Update(const std::vector<TagDetection>& detections,
     if (pen_estimate && pen_estimate->hypotheses.other && gray &&
         options_.pen_shaft.enabled && options_.pen_shaft_resolve_ratio > 0)
       ResolveByShaft(*dense_gray, pen_obs, &*pen_estimate);
+    if (pen_estimate && use_prior && pen_.last_raw && gray &&
+        options_.pen_shaft.enabled && options_.pen_shaft_turn_ratio > 0 &&
+        RotationDistance(pen_estimate->pose.cam_from_object, *pen_.last_raw) >
+            options_.flip_angle_deg * kDegToRad)
+      CheckTurnByShaft(*dense_gray, pen_obs, *pen_.last_raw, &*pen_estimate);
     DenseRefineOptions dense_options = options_.pen_dense;
     if (pen_estimate && PenAtRest(pen_obs, time_s))
       dense_options.max_iterations =

@@ -136,6 +136,18 @@ struct TrackerOptions {
   // kept alone when the other's support is at most this share of it. Needs
   // the image and pen_shaft.enabled; 0: off.
   double pen_shaft_resolve_ratio = 0.25;
+  // A pen whose pose turns by more than flip_angle_deg from the last frame's
+  // (a jump the flip check takes, or the other branch of an ambiguous pen
+  // taking over) keeps a pose near the last one instead (the corners'
+  // minimum near it, or the last pose itself where the corners slide from
+  // it to the turned one) when the shaft shows for that pose (edges for at
+  // least half of
+  // pen_shaft.samples_per_side on both sides) and the turned pose's support
+  // is below this share of it: two small faces' corners can favour a pose
+  // tens of degrees off whose shaft the image does not show. Continuity is
+  // the prior here, so the margin is wider than pen_shaft_resolve_ratio's.
+  // Needs the image and pen_shaft.enabled; 0: off.
+  double pen_shaft_turn_ratio = 0.6;
   // How long an object that vanishes keeps its last pose as kHeld (seconds).
   double tank_hold_s = 0.5;
   double pen_hold_s = 0.0;
@@ -239,6 +251,13 @@ class Tracker {
   void ResolveByShaft(const cv::Mat& gray,
                       const std::vector<TagObservation>& obs,
                       Estimate* e) const;
+  // Keeps a pose near `last` (the last frame's pen) instead of the
+  // estimate, turned from it by more than flip_angle_deg, where `gray`
+  // shows the shaft of the first and not of the second
+  // (pen_shaft_turn_ratio); the estimate is then flip_rejected.
+  void CheckTurnByShaft(const cv::Mat& gray,
+                        const std::vector<TagObservation>& obs,
+                        const Pose& last, Estimate* e) const;
   // False when `pose` explains its corners worse than max_rmse_px, rests on
   // fewer than four corners (three fit a pose exactly whatever their errors,
   // so nothing checks it), or on one tag whose corners do not fit a square

@@ -800,6 +800,10 @@ TEST(TrackerOptionsTest, Validates) {
     options.pen_shaft_resolve_ratio = ratio;
     EXPECT_FALSE(options.IsValid(&error)) << ratio;
     EXPECT_NE(error.find("pen_shaft_resolve_ratio"), std::string::npos);
+    options = TrackerOptions{};
+    options.pen_shaft_turn_ratio = ratio;
+    EXPECT_FALSE(options.IsValid(&error)) << ratio;
+    EXPECT_NE(error.find("pen_shaft_turn_ratio"), std::string::npos);
   }
   EXPECT_EQ(ParsePenMode("best-face"), PenMode::kBestFace);
   EXPECT_FALSE(ParsePenMode("best"));

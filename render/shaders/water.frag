@@ -301,9 +301,9 @@ void main() {
   vec3 f2 = f + (tg + tg_back) * (0.5 * glass_path);
   float tf2 = t2.z < -1e-5 ? -f2.z / t2.z : 0.0;
   // Out through the slab: a parallel slab keeps the ray's direction but
-  // moves the point where it leaves, half the mirrored path's travel in the
-  // glass further out and lower; a ray that comes down to z = 0 inside the
-  // glass sees the board under it.
+  // moves the point where it leaves, to the outer face d / cos(theta_g)
+  // along the ray in the glass (half the mirrored path); a ray that comes
+  // down to z = 0 inside the glass sees the board under it.
   vec3 exit = f + tg * (0.5 * glass_path);
   float leave = out_dir.z < -1e-5 ? -exit.z / out_dir.z : 0.0;
   vec3 beyond = exit.z > 0.0 ? exit + out_dir * leave

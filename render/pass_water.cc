@@ -289,7 +289,10 @@ std::string WaterPass::VariantDefines(int v) const {
   if (v & kRealPlate) defines += "#define REAL_PLATE 1\n";
   if (v & kMirror) defines += "#define MIRROR 1\n";
   if (v & kWallFree) defines += "#define WALL_FREE 1\n";
-  if (v & kObstacles) defines += "#define OBSTACLES 1\n";
+  if (v & kObstacles) {
+    defines += "#define OBSTACLES 1\n#define MAX_OBSTACLES " +
+               std::to_string(kMaxTracedObstacles) + "\n";
+  }
   return defines;
 }
 

@@ -74,7 +74,8 @@ class WaterPass {
   // Texels of the floor-return map (optics.h) over the tank floor, and the
   // directions traced per texel; recomputed when the tank changes.
   static constexpr int kReturnNx = 32, kReturnNy = 21, kReturnRays = 2048;
-  // Obstacles the refracted rays are traced against (water.frag's arrays).
+  // Obstacles the refracted rays are traced against (water.frag's arrays,
+  // sized by the MAX_OBSTACLES define).
   static constexpr int kMaxTracedObstacles = 1;
 
  private:

@@ -51,8 +51,9 @@ glm::ivec4 SurfaceNear(const FrameState& f, const std::vector<glm::dvec3>& q,
                        double reach) {
   std::vector<glm::dvec3> pts;
   pts.reserve(q.size() * 8);
+  const double z_lo = SurfaceLow(f), z_hi = SurfaceHigh(f);
   for (const glm::dvec3& p : q) {
-    for (const double z : {SurfaceLow(f), SurfaceHigh(f)}) {
+    for (const double z : {z_lo, z_hi}) {
       for (int i = 0; i < 4; ++i) {
         pts.emplace_back(p.x + (i & 1 ? reach : -reach),
                          p.y + (i & 2 ? reach : -reach), z);
@@ -291,13 +292,14 @@ glm::ivec4 MirrorLookupRect(const FrameState& f,
     hi = glm::max(hi, glm::dvec2(p));
   }
   std::vector<glm::dvec3> pts;
+  const double z_lo = SurfaceLow(f), z_hi = SurfaceHigh(f);
   ForSlopeTiles(h,
                 [&](const glm::dvec2& t0, const glm::dvec2& t1, double slope) {
                   const double reach = 2.0 * kMirrorDepth_m * slope + 0.001;
                   const glm::dvec2 a = glm::max(t0, lo - reach);
                   const glm::dvec2 b = glm::min(t1, hi + reach);
                   if (!(a.x <= b.x && a.y <= b.y)) return;
-                  for (const double z : {SurfaceLow(f), SurfaceHigh(f)}) {
+                  for (const double z : {z_lo, z_hi}) {
                     for (int c = 0; c < 4; ++c)
                       pts.emplace_back(c & 1 ? b.x : a.x, c & 2 ? b.y : a.y, z);
                   }

@@ -254,6 +254,10 @@ void Tracker::TrackHypotheses(const std::vector<TagObservation>& obs,
                      &e->pose, &e->flip_rejected, &e->jumped, &e->hypotheses);
 }
 
+int Tracker::ShaftEdgesNeeded() const {
+  return std::max((options_.pen_shaft.samples_per_side + 1) / 2, 1);
+}
+
 void Tracker::ResolveByShaft(const cv::Mat& gray,
                              const std::vector<TagObservation>& obs,
                              Estimate* e) const {
@@ -262,9 +266,7 @@ void Tracker::ResolveByShaft(const cv::Mat& gray,
       gray, camera_, *rig_.pen, options_.pen_shaft, e->pose.cam_from_object);
   const int other_edges =
       ShaftEdgeSupport(gray, camera_, *rig_.pen, options_.pen_shaft, other);
-  // Half the samples or more on both sides: a wrong branch's search often
-  // picks up a few edges on a busy table or along a hand's fingers.
-  const int need = std::max((options_.pen_shaft.samples_per_side + 1) / 2, 1);
+  const int need = ShaftEdgesNeeded();
   const double ratio = options_.pen_shaft_resolve_ratio;
   auto clear = [&](int winner, int loser) {
     return winner >= need && loser <= ratio * winner;
@@ -304,7 +306,7 @@ void Tracker::CheckTurnByShaft(const cv::Mat& gray,
     kept.iterations = 0;
     kept.alternative.reset();
   }
-  const int need = std::max((options_.pen_shaft.samples_per_side + 1) / 2, 1);
+  const int need = ShaftEdgesNeeded();
   const int kept_edges = ShaftEdgeSupport(
       gray, camera_, *rig_.pen, options_.pen_shaft, kept.cam_from_object);
   if (kept_edges < need) return;

@@ -246,6 +246,10 @@ class Tracker {
   // after the flip check.
   void TrackHypotheses(const std::vector<TagObservation>& obs, bool use_prior,
                        double time_s, Estimate* e) const;
+  // The shaft's edges (ShaftEdgeSupport) that show a pose's shaft: half of
+  // pen_shaft.samples_per_side or more on both sides (a wrong pose's search
+  // often picks up a few on a busy table or along a hand's fingers).
+  int ShaftEdgesNeeded() const;
   // Keeps only the branch of an ambiguous pen whose shaft `gray` shows
   // (pen_shaft_resolve_ratio); leaves `e` as it is when neither is clear.
   void ResolveByShaft(const cv::Mat& gray,

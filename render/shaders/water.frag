@@ -66,7 +66,7 @@ uniform float u_mirror_depth;    // typical height of what it mirrors, metres
 // The virtual obstacles (pass_water.h, kMaxTracedObstacles), each in its own
 // frame: base centre at the origin, axis +z; shape = (half x, half y,
 // height, 0) for a box, (radius, radius, height, 1) for a cylinder.
-const int kMaxObstacles = 1;
+const int kMaxObstacles = MAX_OBSTACLES;
 uniform int u_obstacle_count;
 uniform mat4 u_obstacle_from_tank[kMaxObstacles];
 uniform vec4 u_obstacle_shape[kMaxObstacles];
@@ -298,16 +298,15 @@ void main() {
   bool under_glass = mirrored && to_board < glass_path;
   vec3 in_glass = f + tg * min(to_board, 0.5 * glass_path) +
                   tg_back * max(to_board - 0.5 * glass_path, 0.0);
-  vec3 f2 = f + (tg + tg_back) * (0.5 * glass_path);
-  float tf2 = t2.z < -1e-5 ? -f2.z / t2.z : 0.0;
   // Out through the slab: a parallel slab keeps the ray's direction but
   // moves the point where it leaves, to the outer face d / cos(theta_g)
   // along the ray in the glass (half the mirrored path); a ray that comes
   // down to z = 0 inside the glass sees the board under it.
   vec3 exit = f + tg * (0.5 * glass_path);
+  vec3 f2 = exit + tg_back * (0.5 * glass_path);
+  float tf2 = t2.z < -1e-5 ? -f2.z / t2.z : 0.0;
   float leave = out_dir.z < -1e-5 ? -exit.z / out_dir.z : 0.0;
-  vec3 beyond = exit.z > 0.0 ? exit + out_dir * leave
-                             : f + tg * max(to_board, 0.0);
+  vec3 beyond = exit.z > 0.0 ? exit + out_dir * leave : in_glass;
   vec3 lookup = on_floor ? f
                          : (mirrored ? (under_glass ? in_glass : f2 + t2 * tf2)
                                      : beyond);
